@@ -1,0 +1,83 @@
+"""Checks made once at the public boundary; code inside the package trusts their results."""
+
+import math
+import numbers
+import warnings
+
+import numpy as np
+import shapely
+from shapely.geometry import MultiPolygon, Polygon
+from shapely.geometry.base import BaseGeometry
+
+from .errors import GeometryTypeError, InvalidGeometryError, InvalidRadiusError, RepairWarning
+from .tolerances import DEFAULT_TOLERANCE_R, MAX_QUAD_SEGS
+
+__all__ = ["check_radius", "check_shape", "check_tolerance", "quad_segs_for"]
+
+
+def check_radius(r, name: str = "r") -> float:
+    """Return ``r`` as a float, or raise `InvalidRadiusError` unless it is a positive finite number."""
+    if isinstance(r, bool) or not isinstance(r, numbers.Real):
+        raise InvalidRadiusError(f"{name} must be a positive finite number, got {r!r}")
+    value = float(r)
+    if not math.isfinite(value) or value <= 0:
+        raise InvalidRadiusError(f"{name} must be a positive finite number, got {r!r}")
+    return value
+
+
+def check_tolerance(tolerance, r: float) -> float:
+    """Return the chord tolerance to use for radius ``r`` (``None`` means the documented default)."""
+    if tolerance is None:
+        return DEFAULT_TOLERANCE_R * r
+    tol = check_radius(tolerance, "tolerance")
+    if tol >= r:
+        raise InvalidRadiusError(f"tolerance must be smaller than r = {r!r}, got {tolerance!r}")
+    return tol
+
+
+def quad_segs_for(r: float, tolerance: float) -> int:
+    """Number of chords a quarter circle of radius ``r`` needs so that none is farther than ``tolerance``.
+
+    A chord spanning the angle a lies ``r·(1 − cos(a/2))`` from its arc at most.
+    """
+    step = 2.0 * math.acos(max(-1.0, 1.0 - tolerance / r))
+    return int(min(MAX_QUAD_SEGS, max(1, math.ceil((math.pi / 2) / step - 1e-9))))
+
+
+def check_shape(S, name: str = "S", *, allow_empty: bool = False) -> Polygon | MultiPolygon:
+    """Return ``S`` as a valid, oriented (Multi)Polygon, or raise an error that names the problem.
+
+    Invalid polygons (self-intersections, bow-ties) are repaired with ``shapely.make_valid``, keeping the
+    polygonal part, and a `RepairWarning` is issued. Exteriors come back counter-clockwise and holes
+    clockwise. The input object is never modified.
+    """
+    if not isinstance(S, BaseGeometry):
+        raise GeometryTypeError(f"{name} must be a shapely Polygon or MultiPolygon, got {type(S).__name__}")
+    if S.geom_type == "GeometryCollection":
+        parts = [g for g in S.geoms if not g.is_empty]
+        if any(g.geom_type not in ("Polygon", "MultiPolygon") for g in parts):
+            kinds = sorted({g.geom_type for g in parts})
+            raise GeometryTypeError(f"{name} must be polygonal; its collection holds {', '.join(kinds)}")
+        S = shapely.union_all(parts) if parts else Polygon()
+    elif S.geom_type not in ("Polygon", "MultiPolygon"):
+        raise GeometryTypeError(f"{name} must be a Polygon or MultiPolygon, got a {S.geom_type}")
+    if S.is_empty:
+        if allow_empty:
+            return S
+        raise InvalidGeometryError(f"{name} is empty")
+    coords = shapely.get_coordinates(S)
+    if not np.isfinite(coords).all():
+        raise InvalidGeometryError(f"{name} has NaN or infinite coordinates")
+    if not S.is_valid:
+        reason = shapely.is_valid_reason(S)
+        fixed = shapely.make_valid(S)
+        polys = [g for g in getattr(fixed, "geoms", [fixed]) if g.geom_type in ("Polygon", "MultiPolygon")]
+        fixed = shapely.union_all(polys) if polys else Polygon()
+        if fixed.is_empty or fixed.area == 0:
+            raise InvalidGeometryError(f"{name} is invalid ({reason}) and has no area once repaired")
+        warnings.warn(f"{name} was invalid ({reason}); repaired with shapely.make_valid", RepairWarning,
+                      stacklevel=3)
+        S = fixed
+    if S.area <= 0:
+        raise InvalidGeometryError(f"{name} has zero area")
+    return shapely.orient_polygons(S, exterior_cw=False)

@@ -1,0 +1,633 @@
+"""Exact curves made of straight segments and circular arcs.
+
+`Segment` and `Arc` share one small protocol (``start``, ``end``, ``length``, ``point_at``,
+``tangent_at``, ``curvature``, ``reversed``, ``area_term``, ``sample``, ``bounds``, ``svg``), so that a
+`Loop` never asks which kind of piece it holds. A `Loop` is a closed G1 curve: the boundary of a
+tightening is a list of them, every arc of radius exactly r.
+
+Angles are in radians, counter-clockwise from the +x axis; a positive sweep turns left. Coordinates are in
+the units of the input shape.
+
+The last part of the module builds loops from disks. A tight loop is a cyclic sequence of disks of radius
+r, each with a `Side`: `Side.CORE` when the loop turns left around it (the disk lies inside the set the
+loop bounds) and `Side.ANTICORE` when it turns right (the disk lies outside). Consecutive disks are joined
+by their common tangent: the outer tangent for equal sides, the crossing tangent for opposite sides.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass
+from typing import Iterable, Sequence
+
+import numpy as np
+import shapely
+from shapely.geometry import LinearRing, Polygon
+
+__all__ = [
+    "Arc",
+    "Loop",
+    "Segment",
+    "Side",
+    "common_tangents",
+    "disk_tangent",
+    "tangent_directions",
+]
+
+_TWO_PI = 2.0 * math.pi
+
+
+class Side(enum.IntEnum):
+    """Which way a loop turns around a disk it touches.
+
+    ``CORE`` (+1): the loop turns left, the disk is on the side of the set it bounds (a disk of the core).
+    ``ANTICORE`` (-1): the loop turns right, the disk is outside the set (a disk of the anticore).
+    """
+
+    CORE = 1
+    ANTICORE = -1
+
+
+def _fmt(value: float, precision: int) -> str:
+    text = f"{value:.{precision}g}"
+    return "0" if text == "-0" else text
+
+
+def _arc_steps(radius: float, sweep: float, tolerance: float) -> int:
+    """Number of chords for an arc so that no chord is farther than ``tolerance`` from it."""
+    if tolerance >= radius:
+        step = math.pi / 2
+    else:
+        step = 2.0 * math.acos(1.0 - tolerance / radius)
+    return max(1, math.ceil(abs(sweep) / step - 1e-9))
+
+
+@dataclass(frozen=True, slots=True)
+class Segment:
+    """A straight segment from ``start`` to ``end``.
+
+    Parameters
+    ----------
+    start, end : (2,) float
+        End points, in the units of the shape.
+
+    Examples
+    --------
+    >>> s = Segment((0.0, 0.0), (3.0, 4.0))
+    >>> s.length
+    5.0
+    >>> s.point_at(0.5)
+    (1.5, 2.0)
+    """
+
+    start: tuple[float, float]
+    end: tuple[float, float]
+
+    def __post_init__(self):
+        object.__setattr__(self, "start", (float(self.start[0]), float(self.start[1])))
+        object.__setattr__(self, "end", (float(self.end[0]), float(self.end[1])))
+
+    @property
+    def length(self) -> float:
+        """Length of the segment."""
+        return math.hypot(self.end[0] - self.start[0], self.end[1] - self.start[1])
+
+    @property
+    def curvature(self) -> float:
+        """Signed curvature, 0 for a segment."""
+        return 0.0
+
+    def point_at(self, t: float) -> tuple[float, float]:
+        """Point at the fraction ``t`` of the length (0 is ``start``, 1 is ``end``)."""
+        (x0, y0), (x1, y1) = self.start, self.end
+        return (x0 + t * (x1 - x0), y0 + t * (y1 - y0))
+
+    def tangent_at(self, t: float = 0.0) -> tuple[float, float]:
+        """Unit tangent (the same everywhere on a segment)."""
+        dx, dy = self.end[0] - self.start[0], self.end[1] - self.start[1]
+        n = math.hypot(dx, dy)
+        if n == 0:
+            return (float("nan"), float("nan"))
+        return (dx / n, dy / n)
+
+    def reversed(self) -> Segment:
+        """The same segment run the other way."""
+        return Segment(self.end, self.start)
+
+    def area_term(self, origin: tuple[float, float] = (0.0, 0.0)) -> float:
+        """Contribution ½∮(x dy − y dx) of this piece to the signed area of a closed curve.
+
+        Coordinates are taken relative to ``origin``; the total over a closed curve does not depend on it.
+        """
+        x0, y0 = self.start[0] - origin[0], self.start[1] - origin[1]
+        x1, y1 = self.end[0] - origin[0], self.end[1] - origin[1]
+        return 0.5 * (x0 * y1 - x1 * y0)
+
+    def sample(self, tolerance: float) -> np.ndarray:
+        """Points ``(n, 2)`` from ``start`` up to, but excluding, ``end`` (a segment needs only its start)."""
+        return np.array([self.start])
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """``(minx, miny, maxx, maxy)``."""
+        (x0, y0), (x1, y1) = self.start, self.end
+        return (min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1))
+
+    def svg(self, precision: int = 12) -> str:
+        """SVG path command drawing this piece from the current point (``L x y``)."""
+        return f"L {_fmt(self.end[0], precision)} {_fmt(self.end[1], precision)}"
+
+    def affine(self, scale: float, dx: float, dy: float) -> Segment:
+        """The segment under ``p -> scale·p + (dx, dy)``."""
+        return Segment((scale * self.start[0] + dx, scale * self.start[1] + dy),
+                       (scale * self.end[0] + dx, scale * self.end[1] + dy))
+
+
+@dataclass(frozen=True, slots=True)
+class Arc:
+    """A circular arc: ``center + radius·(cos θ, sin θ)`` for θ from ``start_angle`` over ``sweep``.
+
+    Parameters
+    ----------
+    center : (2,) float
+        Centre of the circle.
+    radius : float
+        Radius, > 0.
+    start_angle : float
+        Angle of the start point, radians.
+    sweep : float
+        Signed angle swept, radians: positive counter-clockwise (the curve turns left), negative clockwise.
+
+    Examples
+    --------
+    >>> a = Arc((0.0, 0.0), 2.0, 0.0, math.pi / 2)
+    >>> round(a.length, 12) == round(math.pi, 12)
+    True
+    >>> [round(v, 12) for v in a.end]
+    [0.0, 2.0]
+    """
+
+    center: tuple[float, float]
+    radius: float
+    start_angle: float
+    sweep: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "center", (float(self.center[0]), float(self.center[1])))
+        object.__setattr__(self, "radius", float(self.radius))
+        object.__setattr__(self, "start_angle", float(self.start_angle))
+        object.__setattr__(self, "sweep", float(self.sweep))
+        if not self.radius > 0:
+            raise ValueError(f"arc radius must be positive, got {self.radius!r}")
+
+    @property
+    def end_angle(self) -> float:
+        """Angle of the end point, ``start_angle + sweep``."""
+        return self.start_angle + self.sweep
+
+    @property
+    def side(self) -> Side:
+        """`Side.CORE` if the arc turns left (counter-clockwise), else `Side.ANTICORE`."""
+        return Side.CORE if self.sweep >= 0 else Side.ANTICORE
+
+    def _at_angle(self, theta: float) -> tuple[float, float]:
+        return (self.center[0] + self.radius * math.cos(theta), self.center[1] + self.radius * math.sin(theta))
+
+    @property
+    def start(self) -> tuple[float, float]:
+        """Start point."""
+        return self._at_angle(self.start_angle)
+
+    @property
+    def end(self) -> tuple[float, float]:
+        """End point."""
+        return self._at_angle(self.end_angle)
+
+    @property
+    def length(self) -> float:
+        """Arc length, ``radius·|sweep|``."""
+        return self.radius * abs(self.sweep)
+
+    @property
+    def curvature(self) -> float:
+        """Signed curvature: ``+1/radius`` turning left, ``-1/radius`` turning right."""
+        return math.copysign(1.0 / self.radius, self.sweep)
+
+    def point_at(self, t: float) -> tuple[float, float]:
+        """Point at the fraction ``t`` of the sweep."""
+        return self._at_angle(self.start_angle + t * self.sweep)
+
+    def tangent_at(self, t: float = 0.0) -> tuple[float, float]:
+        """Unit tangent in the direction of travel at the fraction ``t`` of the sweep."""
+        theta = self.start_angle + t * self.sweep
+        sign = 1.0 if self.sweep >= 0 else -1.0
+        return (-sign * math.sin(theta), sign * math.cos(theta))
+
+    def reversed(self) -> Arc:
+        """The same arc run the other way."""
+        return Arc(self.center, self.radius, self.end_angle, -self.sweep)
+
+    def area_term(self, origin: tuple[float, float] = (0.0, 0.0)) -> float:
+        """Contribution ½∮(x dy − y dx) of this arc to the signed area of a closed curve (exact)."""
+        cx, cy = self.center[0] - origin[0], self.center[1] - origin[1]
+        r, a0, a1 = self.radius, self.start_angle, self.end_angle
+        return 0.5 * (r * r * self.sweep + r * cx * (math.sin(a1) - math.sin(a0))
+                      - r * cy * (math.cos(a1) - math.cos(a0)))
+
+    def sample(self, tolerance: float) -> np.ndarray:
+        """Points ``(n, 2)`` on the arc from ``start`` up to, excluding, ``end``; chords within ``tolerance``.
+
+        Every sampled point lies on the circle, so the chords lie on the centre's side of the arc.
+        """
+        n = _arc_steps(self.radius, self.sweep, tolerance)
+        theta = self.start_angle + self.sweep * np.arange(n) / n
+        return np.column_stack([self.center[0] + self.radius * np.cos(theta),
+                                self.center[1] + self.radius * np.sin(theta)])
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """``(minx, miny, maxx, maxy)`` of the arc (exact: includes the extreme points it passes)."""
+        xs = [self.start[0], self.end[0]]
+        ys = [self.start[1], self.end[1]]
+        lo, hi = sorted((self.start_angle, self.end_angle))
+        k = math.ceil(lo / (math.pi / 2))
+        while k * math.pi / 2 <= hi:
+            x, y = self._at_angle(k * math.pi / 2)
+            xs.append(x)
+            ys.append(y)
+            k += 1
+        return (min(xs), min(ys), max(xs), max(ys))
+
+    def svg(self, precision: int = 12) -> str:
+        """SVG path commands (``A``) drawing this arc from the current point.
+
+        The coordinates are the shape's own (y up): the sweep flag is 1 for a counter-clockwise arc in
+        that frame. An arc of more than half a turn is written as several ``A`` commands.
+        """
+        parts = max(1, math.ceil(abs(self.sweep) / math.pi - 1e-12))
+        r = _fmt(self.radius, precision)
+        flag = 1 if self.sweep > 0 else 0
+        out = []
+        for i in range(1, parts + 1):
+            x, y = self._at_angle(self.start_angle + self.sweep * i / parts)
+            out.append(f"A {r} {r} 0 0 {flag} {_fmt(x, precision)} {_fmt(y, precision)}")
+        return " ".join(out)
+
+    def affine(self, scale: float, dx: float, dy: float) -> Arc:
+        """The arc under ``p -> scale·p + (dx, dy)`` (``scale > 0``)."""
+        return Arc((scale * self.center[0] + dx, scale * self.center[1] + dy), scale * self.radius,
+                   self.start_angle, self.sweep)
+
+
+Piece = Segment | Arc
+
+
+class Loop:
+    """A closed curve of `Segment` and `Arc` pieces, each starting where the previous one ends.
+
+    Parameters
+    ----------
+    pieces : sequence of Segment or Arc
+        The pieces in order; the last ends where the first starts.
+    atol : float, optional
+        Largest gap allowed between consecutive pieces. Default: 1e-9 of the loop's size.
+
+    Notes
+    -----
+    ``length`` and ``area`` are exact sums over the pieces (Green's theorem for the area); the area is
+    positive for a counter-clockwise loop. ``sample`` gives polygon coordinates for shapely.
+
+    Examples
+    --------
+    >>> sq = Loop([Segment((0, 0), (1, 0)), Segment((1, 0), (1, 1)),
+    ...            Segment((1, 1), (0, 1)), Segment((0, 1), (0, 0))])
+    >>> sq.length, sq.area
+    (4.0, 1.0)
+    >>> disk = Loop.circle((0, 0), 1.0)
+    >>> round(disk.area, 12) == round(math.pi, 12)
+    True
+    """
+
+    __slots__ = ("pieces",)
+
+    def __init__(self, pieces: Iterable[Piece], atol: float | None = None):
+        self.pieces: tuple[Piece, ...] = tuple(pieces)
+        if not self.pieces:
+            raise ValueError("a loop needs at least one piece")
+        if atol is None:
+            x0, y0, x1, y1 = self.bounds
+            atol = 1e-9 * max(x1 - x0, y1 - y0, 1e-300)
+        for i, piece in enumerate(self.pieces):
+            nxt = self.pieces[(i + 1) % len(self.pieces)]
+            gap = math.hypot(piece.end[0] - nxt.start[0], piece.end[1] - nxt.start[1])
+            if gap > atol:
+                raise ValueError(f"loop is not closed: piece {i} ends {gap:.3g} away from where the next starts")
+
+    # -- construction -------------------------------------------------------------------------------
+    @classmethod
+    def circle(cls, center: Sequence[float], radius: float, ccw: bool = True) -> Loop:
+        """A full circle as one arc, counter-clockwise by default."""
+        return cls([Arc(center, radius, 0.0, _TWO_PI if ccw else -_TWO_PI)])
+
+    @classmethod
+    def from_polygon_ring(cls, coords) -> Loop:
+        """A loop of segments through the vertices ``coords`` ((n, 2), closed or not)."""
+        pts = np.asarray(coords, dtype=float)
+        if len(pts) > 1 and np.array_equal(pts[0], pts[-1]):
+            pts = pts[:-1]
+        if len(pts) < 2:
+            raise ValueError("a ring needs at least two distinct vertices")
+        return cls([Segment(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))])
+
+    @classmethod
+    def from_disks(cls, centers, sides, r: float, reference_sweeps=None) -> Loop:
+        """The loop that wraps the disks of radius ``r`` in order, joined by their common tangents.
+
+        Parameters
+        ----------
+        centers : (n, 2) float
+            Disk centres in the order the loop visits them.
+        sides : (n,) int
+            `Side` of each disk (+1 the loop turns left around it, -1 right).
+        r : float
+            Radius of every disk.
+        reference_sweeps : (n,) float, optional
+            Approximate signed sweep of each arc; the exact sweep is taken within π of it. Without it each
+            arc turns the way its side says by less than a full turn.
+
+        Returns
+        -------
+        Loop
+            Arcs of radius exactly ``r`` joined G1 by tangent segments (zero-length ones are left out).
+
+        Raises
+        ------
+        ValueError
+            If two consecutive disks of opposite sides overlap (no crossing tangent) or coincide.
+
+        Examples
+        --------
+        >>> loop = Loop.from_disks([(0, 0), (4, 0)], [1, 1], 1.0)   # a stadium
+        >>> round(loop.length, 12) == round(8 + 2 * math.pi, 12)
+        True
+        """
+        c = np.asarray(centers, dtype=float).reshape(-1, 2)
+        s = np.asarray(sides, dtype=float).reshape(-1)
+        n = len(c)
+        if n == 0:
+            raise ValueError("a loop needs at least one disk")
+        if n == 1:
+            return cls.circle(c[0], r, ccw=s[0] > 0)
+        phi, length, ok = tangent_directions(c, s, r)
+        if not ok.all():
+            i = int(np.flatnonzero(~ok)[0])
+            raise ValueError(f"disks {i} and {(i + 1) % n} have no common tangent of the required kind")
+        sweeps = arc_sweeps(phi, s, reference_sweeps)
+        pieces: list[Piece] = []
+        normal = np.column_stack([-np.sin(phi), np.cos(phi)])
+        for i in range(n):
+            j = (i + 1) % n
+            start_angle = phi[i - 1] - s[i] * math.pi / 2
+            if sweeps[i] != 0.0:
+                pieces.append(Arc(c[i], r, start_angle, sweeps[i]))
+            p = c[i] - s[i] * r * normal[i]
+            q = c[j] - s[j] * r * normal[i]
+            if length[i] > 0:
+                pieces.append(Segment(p, q))
+        return cls(pieces, atol=1e-7 * max(r, float(np.ptp(c, axis=0).max())))
+
+    # -- measures -----------------------------------------------------------------------------------
+    @property
+    def length(self) -> float:
+        """Exact length."""
+        return math.fsum(p.length for p in self.pieces)
+
+    @property
+    def area(self) -> float:
+        """Exact signed area enclosed (positive for a counter-clockwise loop)."""
+        o = self.pieces[0].start
+        return math.fsum(p.area_term(o) for p in self.pieces)
+
+    @property
+    def is_ccw(self) -> bool:
+        """True if the loop runs counter-clockwise (positive area)."""
+        return self.area > 0
+
+    @property
+    def arcs(self) -> list[Arc]:
+        """The arc pieces."""
+        return [p for p in self.pieces if isinstance(p, Arc)]
+
+    @property
+    def segments(self) -> list[Segment]:
+        """The straight pieces."""
+        return [p for p in self.pieces if isinstance(p, Segment)]
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """``(minx, miny, maxx, maxy)``."""
+        b = np.array([p.bounds for p in self.pieces])
+        return (float(b[:, 0].min()), float(b[:, 1].min()), float(b[:, 2].max()), float(b[:, 3].max()))
+
+    @property
+    def total_turn(self) -> float:
+        """Sum of the signed turning of the loop (arcs and corners): ±2π for a simple G1 loop."""
+        turn = math.fsum(p.sweep for p in self.arcs)
+        for i, p in enumerate(self.pieces):
+            q = self.pieces[(i + 1) % len(self.pieces)]
+            a, b = p.tangent_at(1.0), q.tangent_at(0.0)
+            if all(map(math.isfinite, a + b)):
+                turn += math.atan2(a[0] * b[1] - a[1] * b[0], a[0] * b[0] + a[1] * b[1])
+        return turn
+
+    def corner_angles(self) -> np.ndarray:
+        """Absolute angle between the end tangent of each piece and the start tangent of the next."""
+        out = []
+        for i, p in enumerate(self.pieces):
+            q = self.pieces[(i + 1) % len(self.pieces)]
+            a, b = p.tangent_at(1.0), q.tangent_at(0.0)
+            if not all(map(math.isfinite, a + b)):
+                out.append(0.0)
+                continue
+            out.append(abs(math.atan2(a[0] * b[1] - a[1] * b[0], a[0] * b[0] + a[1] * b[1])))
+        return np.array(out)
+
+    def is_g1(self, atol: float = 1e-9) -> bool:
+        """True if every join between pieces is tangent-continuous within ``atol`` radians."""
+        return bool((self.corner_angles() <= atol).all())
+
+    @property
+    def min_radius_of_curvature(self) -> float:
+        """Exact minimum radius of curvature: the smallest arc radius, 0 if a join has a corner, else inf."""
+        if not self.is_g1(1e-7):
+            return 0.0
+        radii = [p.radius for p in self.arcs]
+        return min(radii) if radii else math.inf
+
+    # -- transformations ----------------------------------------------------------------------------
+    def reversed(self) -> Loop:
+        """The same loop run the other way."""
+        return Loop([p.reversed() for p in reversed(self.pieces)], atol=math.inf)
+
+    def affine(self, scale: float, dx: float, dy: float) -> Loop:
+        """The loop under ``p -> scale·p + (dx, dy)`` with ``scale > 0``."""
+        return Loop([p.affine(scale, dx, dy) for p in self.pieces], atol=math.inf)
+
+    # -- output -------------------------------------------------------------------------------------
+    def sample(self, tolerance: float) -> np.ndarray:
+        """Closed polygon coordinates ``(n + 1, 2)``: arcs by chords within ``tolerance``, first point repeated."""
+        pts = np.concatenate([p.sample(tolerance) for p in self.pieces])
+        return np.concatenate([pts, pts[:1]])
+
+    def to_ring(self, tolerance: float) -> LinearRing:
+        """Shapely ring sampled within ``tolerance``."""
+        return LinearRing(self.sample(tolerance))
+
+    def to_polygon(self, tolerance: float) -> Polygon:
+        """Shapely polygon bounded by this loop (orientation dropped)."""
+        return shapely.orient_polygons(Polygon(self.sample(tolerance)))
+
+    def svg_path(self, precision: int = 12) -> str:
+        """SVG path data with real ``A`` commands, in the loop's own coordinates, closed with ``Z``."""
+        x, y = self.pieces[0].start
+        cmds = [f"M {_fmt(x, precision)} {_fmt(y, precision)}"]
+        cmds += [p.svg(precision) for p in self.pieces]
+        return " ".join(cmds) + " Z"
+
+    def __len__(self) -> int:
+        return len(self.pieces)
+
+    def __iter__(self):
+        return iter(self.pieces)
+
+    def __repr__(self) -> str:
+        return (f"<Loop {len(self.pieces)} pieces ({len(self.arcs)} arcs), length {self.length:.6g}, "
+                f"area {self.area:.6g}>")
+
+
+# -- disks and their tangents ---------------------------------------------------------------------------
+def tangent_directions(centers, sides, r: float):
+    """Directions of the tangents joining each disk to the next, for a loop that visits them in order.
+
+    Parameters
+    ----------
+    centers : (n, 2) float
+        Disk centres.
+    sides : (n,) float or int
+        `Side` of each disk: +1 the loop keeps it on its left, -1 on its right.
+    r : float
+        Radius of every disk.
+
+    Returns
+    -------
+    phi : (n,) float
+        Direction (radians) of the tangent from disk ``i`` to disk ``i + 1`` (cyclic).
+    length : (n,) float
+        Its length ``sqrt(d² − k²)`` with ``k = (s[i+1] − s[i])·r``.
+    ok : (n,) bool
+        False where the tangent does not exist (``d < |k|`` beyond rounding, or coincident centres).
+
+    Notes
+    -----
+    The tangent leaves disk ``i`` at ``c[i] − s[i]·r·n(phi)`` and reaches disk ``i+1`` at
+    ``c[i+1] − s[i+1]·r·n(phi)``, where ``n(phi) = (−sin phi, cos phi)`` is the left normal.
+    """
+    c = np.asarray(centers, dtype=float)
+    s = np.asarray(sides, dtype=float)
+    D = np.roll(c, -1, axis=0) - c
+    d = np.hypot(D[:, 0], D[:, 1])
+    k = (np.roll(s, -1) - s) * r
+    gap = d * d - k * k
+    slack = 1e-12 * (d * d + r * r)
+    ok = (gap >= -slack) & (d > 0)
+    length = np.sqrt(np.maximum(gap, 0.0))
+    phi = np.arctan2(D[:, 1], D[:, 0]) - np.arctan2(k, length)
+    return phi, length, ok
+
+
+def arc_sweeps(phi, sides, reference=None) -> np.ndarray:
+    """Signed sweep of the arc at each disk, between the incoming tangent ``phi[i-1]`` and ``phi[i]``.
+
+    Without ``reference`` a `Side.CORE` disk turns left by ``(phi_out − phi_in) mod 2π`` and an
+    `Side.ANTICORE` disk right by ``(phi_in − phi_out) mod 2π``. With ``reference`` the representative
+    within π of it is taken, so a disk the loop should not touch shows up with the wrong sign.
+    """
+    phi = np.asarray(phi, dtype=float)
+    s = np.asarray(sides, dtype=float)
+    delta = phi - np.roll(phi, 1)
+    if reference is None:
+        left = np.mod(delta, _TWO_PI)
+        right = -np.mod(-delta, _TWO_PI)
+        return np.where(s > 0, left, right)
+    ref = np.asarray(reference, dtype=float)
+    return delta + _TWO_PI * np.round((ref - delta) / _TWO_PI)
+
+
+def disk_tangent(c1, side1: int, c2, side2: int, r: float) -> Segment | None:
+    """The tangent that leaves disk ``(c1, side1)`` for disk ``(c2, side2)``, both of radius ``r``.
+
+    The loop keeps a `Side.CORE` disk on its left and an `Side.ANTICORE` disk on its right; equal sides
+    give an outer tangent, opposite sides a crossing one.
+
+    Returns
+    -------
+    Segment or None
+        ``None`` when the tangent does not exist (opposite sides with ``|c2 − c1| < 2r``).
+
+    Examples
+    --------
+    >>> disk_tangent((0, 0), 1, (5, 0), 1, 1.0)
+    Segment(start=(0.0, -1.0), end=(5.0, -1.0))
+    """
+    c = np.array([c1, c2], dtype=float)
+    phi, length, ok = tangent_directions(c, [side1, side2], r)
+    if not ok[0]:
+        return None
+    n = np.array([-math.sin(phi[0]), math.cos(phi[0])])
+    return Segment(c[0] - side1 * r * n, c[1] - side2 * r * n)
+
+
+def common_tangents(c1, r1: float, c2, r2: float, kind: str = "outer") -> list[Segment]:
+    """The common tangent segments of two circles, between their points of contact.
+
+    Parameters
+    ----------
+    c1, c2 : (2,) float
+        Centres.
+    r1, r2 : float
+        Radii (> 0).
+    kind : {"outer", "crossing"}
+        Outer tangents keep both circles on the same side; crossing tangents pass between them.
+
+    Returns
+    -------
+    list of Segment
+        Two segments from circle 1 to circle 2 (one if they coincide in the limit case, none if they do
+        not exist: a circle inside the other for outer tangents, overlapping circles for crossing ones).
+
+    Examples
+    --------
+    >>> [s.length for s in common_tangents((0, 0), 1.0, (0, 4), 1.0, "crossing")]
+    [3.4641016151377544, 3.4641016151377544]
+    """
+    if kind not in ("outer", "crossing"):
+        raise ValueError(f"kind must be 'outer' or 'crossing', got {kind!r}")
+    c1 = np.asarray(c1, dtype=float)
+    c2 = np.asarray(c2, dtype=float)
+    sign = 1.0 if kind == "outer" else -1.0
+    out: list[Segment] = []
+    for s1 in (1.0, -1.0):
+        rho1, rho2 = s1 * r1, sign * s1 * r2          # signed radii: centre = contact + rho·n
+        D = c2 - c1
+        d = math.hypot(*D)
+        k = rho2 - rho1
+        if d == 0 or d * d < k * k * (1 - 1e-12):
+            continue
+        length = math.sqrt(max(d * d - k * k, 0.0))
+        phi = math.atan2(D[1], D[0]) - math.atan2(k, length)
+        n = np.array([-math.sin(phi), math.cos(phi)])
+        seg = Segment(c1 - rho1 * n, c2 - rho2 * n)
+        if not any(np.allclose(seg.start, o.start) and np.allclose(seg.end, o.end) for o in out):
+            out.append(seg)
+    return out

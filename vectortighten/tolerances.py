@@ -1,0 +1,45 @@
+"""Every numerical tolerance of vectortighten, in one place.
+
+Lengths are given either relative to the radius ``r`` (``*_R``) or relative to the size of the shape
+(``*_SCALE``: the largest side of its bounding box). Nothing else in the package writes a bare epsilon.
+"""
+
+__all__ = [
+    "ANGLE_ZERO",
+    "CENTER_SEARCH_R",
+    "DEFAULT_TOLERANCE_R",
+    "MAX_QUAD_SEGS",
+    "PENETRATION_R",
+    "THICKEN_R",
+    "TOUCH_SCALE",
+    "ZERO_SCALE",
+]
+
+#: Default ``tolerance`` of every function that samples circular arcs: the largest distance between an arc
+#: of radius r and the chords that replace it, as a fraction of r.  1e-5·r gives 176 segments a quarter
+#: circle (shapely's own default of 8 is a chord error of about 0.005·r).
+DEFAULT_TOLERANCE_R = 1e-5
+
+#: Upper bound on the ``quad_segs`` derived from a tolerance (a chord error of about 4.6e-8·r).
+MAX_QUAD_SEGS = 4096
+
+#: Two lengths that differ by less than this fraction of the shape's size are equal (rounding only).
+ZERO_SCALE = 1e-12
+
+#: Exact tight loops closer than this fraction of the shape's size touch; the engine performs surgery there.
+TOUCH_SCALE = 1e-9
+
+#: A sine of a turning angle below this marks a straight (collinear) vertex, not a corner.
+ANGLE_ZERO = 1e-12
+
+#: A straight piece or arc that enters the core or the anticore by more than this fraction of r (in
+#: addition to the chord error of the polygons that stand for them) is not tight; the engine repairs it.
+PENETRATION_R = 1e-7
+
+#: The mortar is thickened by this fraction of r (at least 20 chord errors) before it is triangulated, so
+#: that its zero-width parts, where the boundary of the shape is left unchanged, have room for a path.
+THICKEN_R = 2e-4
+
+#: Half-width of the band, as a fraction of r (on top of the chord error), in which the boundary features
+#: that define an arc centre are looked for around a vertex of a buffered polygon.
+CENTER_SEARCH_R = 1e-4
