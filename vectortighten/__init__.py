@@ -6,7 +6,24 @@ mortar, so that its radius of curvature is at least r everywhere. This package c
 straight segments and circular arcs of radius r.
 """
 
+from .centers import ArcCenters, arc_centers
 from .curves import Arc, Loop, Segment, Side, common_tangents, disk_tangent, tangent_directions
+from .hull import relative_convex_hull
+from .metrics import is_r_regular, min_radius_of_curvature, n_components, n_holes, perimeter
+from .morphology import (
+    anticore,
+    core,
+    fillet,
+    fillet_round,
+    grow,
+    mason,
+    mortar,
+    pockets,
+    round_fillet,
+    shrink,
+    tolerance_zone,
+)
+from .tighten import Init, Tightening, tighten
 from .errors import (
     GeometryTypeError,
     InvalidGeometryError,
@@ -19,6 +36,28 @@ __version__ = "0.1.0"
 
 __all__ = [
     "Arc",
+    "ArcCenters",
+    "Init",
+    "Tightening",
+    "anticore",
+    "arc_centers",
+    "core",
+    "fillet",
+    "fillet_round",
+    "grow",
+    "is_r_regular",
+    "mason",
+    "min_radius_of_curvature",
+    "mortar",
+    "n_components",
+    "n_holes",
+    "perimeter",
+    "pockets",
+    "relative_convex_hull",
+    "round_fillet",
+    "shrink",
+    "tighten",
+    "tolerance_zone",
     "GeometryTypeError",
     "InvalidGeometryError",
     "InvalidRadiusError",
