@@ -23,7 +23,7 @@ from .morphology import (
     shrink,
     tolerance_zone,
 )
-from .tighten import Init, Tightening, tighten
+from .engine import Init, Tightening, tighten
 from .errors import (
     GeometryTypeError,
     InvalidGeometryError,

@@ -301,9 +301,9 @@ def arc_centers(S, r: float, *, tolerance: float | None = None) -> ArcCenters:
     S = check_shape(S)
     tol = check_tolerance(tolerance, r)
     q = quad_segs_for(r, tol)
-    E = shapely.orient_polygons(S.buffer(-r, quad_segs=q))
-    G = shapely.orient_polygons(S.buffer(r, quad_segs=q))
-    return _arc_centers(S, r, E, G, q)
+    from .morphology import _grow, _orient, _shrink
+
+    return _arc_centers(S, r, _orient(_shrink(S, r, q)), _orient(_grow(S, r, q)), q)
 
 
 def _snap_vertices(P, centers: ArcCenters, side: int):

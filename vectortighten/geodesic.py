@@ -183,7 +183,7 @@ def sleeve(T: Triangulation, ring: np.ndarray) -> np.ndarray:
     return np.where(lw[:, None], ev, ev[:, ::-1])
 
 
-def string_pull(start, end, left, right, left_id=None, right_id=None):
+def string_pull(start, end, left, right, left_id=None, right_id=None, start_id=-1):
     """Funnel algorithm: shortest path from ``start`` to ``end`` through portals ``(left[i], right[i])``.
 
     Consecutive portals must share one end point (they are edges of one triangle). The funnel is kept as
@@ -196,6 +196,8 @@ def string_pull(start, end, left, right, left_id=None, right_id=None):
         Portal end points, left and right relative to the direction of travel.
     left_id, right_id : (k,) int, optional
         Identities of the end points (default: the coordinates decide).
+    start_id : int, optional
+        Identity of ``start`` when it is itself a portal end point (a vertex the path starts from).
 
     Returns
     -------
@@ -213,7 +215,7 @@ def string_pull(start, end, left, right, left_id=None, right_id=None):
         left_id, right_id = inv[:k], inv[k:]
     # The funnel: apex, left chain and right chain (deques from the apex outward).
     # Items are (x, y, id, portal index, side).
-    apex = (float(start[0]), float(start[1]), -1, -1, 0)
+    apex = (float(start[0]), float(start[1]), int(start_id), -1, 0)
     Lc: deque = deque()
     Rc: deque = deque()
     out: list[tuple[int, int]] = []
@@ -223,7 +225,7 @@ def string_pull(start, end, left, right, left_id=None, right_id=None):
 
     def add_right(item):
         nonlocal apex
-        if Rc and Rc[-1][2] == item[2] and item[2] >= 0:
+        if (Rc[-1] if Rc else apex)[2] == item[2] and item[2] >= 0:
             return
         while Rc and cross(Rc[-2] if len(Rc) > 1 else apex, Rc[-1], item) >= 0:
             Rc.pop()
@@ -235,7 +237,7 @@ def string_pull(start, end, left, right, left_id=None, right_id=None):
 
     def add_left(item):
         nonlocal apex
-        if Lc and Lc[-1][2] == item[2] and item[2] >= 0:
+        if (Lc[-1] if Lc else apex)[2] == item[2] and item[2] >= 0:
             return
         while Lc and cross(Lc[-2] if len(Lc) > 1 else apex, Lc[-1], item) <= 0:
             Lc.pop()
@@ -318,7 +320,7 @@ def closed_geodesic(T: Triangulation, portals: np.ndarray, max_restarts: int = 8
         vid = portals[j, 0 if side > 0 else 1]
         apex = T.xy[vid]
         idx = (np.arange(j + 1, j + k) % k)
-        path = string_pull(apex, apex, left[idx], right[idx], portals[idx, 0], portals[idx, 1])
+        path = string_pull(apex, apex, left[idx], right[idx], portals[idx, 0], portals[idx, 1], start_id=vid)
         path = [(i, sd) for i, sd in path if portals[idx[i], 0 if sd > 0 else 1] != vid]
         ids = [vid] + [portals[idx[i], 0 if s > 0 else 1] for i, s in path]
         sides = [side] + [s for _, s in path]

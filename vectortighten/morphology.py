@@ -62,12 +62,65 @@ def _orient(geom: Polygonal) -> Polygonal:
     return shapely.orient_polygons(geom, exterior_cw=False) if not geom.is_empty else geom
 
 
+# GEOS can return "ghost" pieces from a buffer: a polygon whose inradius is just below r, shrunk by r, may
+# come back as a tiny polygon instead of empty (its offset edges cross over and close up again); likewise a
+# hole just narrower than 2r may survive a growth. A piece of the shrink all of whose vertices are closer
+# than r to the boundary of S (a hole of the grow all of whose vertices are closer than r to S) cannot be
+# part of the exact result and is removed.
+_GHOST_R = 1e-6
+
+
+def _too_close(points: np.ndarray, target, distance: float) -> np.ndarray:
+    if len(points) == 0:
+        return np.zeros(0, dtype=bool)
+    tree = shapely.STRtree(shapely.get_parts(target))
+    hit = np.zeros(len(points), dtype=bool)
+    idx, _ = tree.query(shapely.points(points), predicate="dwithin", distance=distance)
+    hit[idx] = True
+    return hit
+
+
 def _grow(S: Polygonal, r: float, q: int) -> Polygonal:
-    return _polygonal(S.buffer(r, quad_segs=q))
+    G = _polygonal(S.buffer(r, quad_segs=q))
+    if G.is_empty or not any(len(p.interiors) for p in shapely.get_parts(G)):
+        return G
+    edges = _boundary_segments(S)
+    parts = []
+    changed = False
+    for p in shapely.get_parts(G):
+        keep = []
+        for hole in p.interiors:
+            c = shapely.get_coordinates(hole)
+            if _too_close(c, edges, r * (1 - _GHOST_R)).all():
+                changed = True
+            else:
+                keep.append(hole)
+        parts.append(Polygon(p.exterior, keep) if len(keep) != len(p.interiors) else p)
+    if not changed:
+        return G
+    return _polygonal(shapely.union_all(parts))
 
 
 def _shrink(S: Polygonal, r: float, q: int) -> Polygonal:
-    return _polygonal(S.buffer(-r, quad_segs=q))
+    E = _polygonal(S.buffer(-r, quad_segs=q))
+    if E.is_empty:
+        return E
+    parts = list(shapely.get_parts(E))
+    edges = _boundary_segments(S)
+    keep = [p for p in parts if not _too_close(shapely.get_coordinates(p.exterior), edges,
+                                               r * (1 - _GHOST_R)).all()]
+    if len(keep) == len(parts):
+        return E
+    return _polygonal(shapely.union_all(keep)) if keep else Polygon()
+
+
+def _boundary_segments(S: Polygonal) -> np.ndarray:
+    """The boundary edges of S as an array of LineStrings."""
+    segs = []
+    for ring in shapely.get_rings(shapely.get_parts(S)):
+        c = shapely.get_coordinates(ring)
+        segs.append(np.stack([c[:-1], c[1:]], axis=1))
+    return shapely.linestrings(np.concatenate(segs))
 
 
 def _edges(S: Polygonal) -> tuple[np.ndarray, np.ndarray]:

@@ -8,6 +8,7 @@ __all__ = [
     "ANGLE_ZERO",
     "CENTER_SEARCH_R",
     "DEFAULT_TOLERANCE_R",
+    "EXACT_CHORD_R",
     "MAX_QUAD_SEGS",
     "PENETRATION_R",
     "THICKEN_R",
@@ -19,6 +20,10 @@ __all__ = [
 #: of radius r and the chords that replace it, as a fraction of r.  1e-5·r gives 176 segments a quarter
 #: circle (shapely's own default of 8 is a chord error of about 0.005·r).
 DEFAULT_TOLERANCE_R = 1e-5
+
+#: Chord error, as a fraction of r, of the shrunk and grown polygons that the exact engine checks its loops
+#: against (their vertices give the exact arc centres; their concave arcs are only approximated).
+EXACT_CHORD_R = 1e-7
 
 #: Upper bound on the ``quad_segs`` derived from a tolerance (a chord error of about 4.6e-8·r).
 MAX_QUAD_SEGS = 4096
@@ -32,9 +37,10 @@ TOUCH_SCALE = 1e-9
 #: A sine of a turning angle below this marks a straight (collinear) vertex, not a corner.
 ANGLE_ZERO = 1e-12
 
-#: A straight piece or arc that enters the core or the anticore by more than this fraction of r (in
-#: addition to the chord error of the polygons that stand for them) is not tight; the engine repairs it.
-PENETRATION_R = 1e-7
+#: A straight piece or arc that comes closer than r to a flat part of the core or of the anticore by more
+#: than this fraction of r (in addition to the chord error of the polygons that stand for them) is not
+#: tight; the engine repairs it. GEOS places offset vertices to a few 1e-7·r, hence the margin.
+PENETRATION_R = 4e-6
 
 #: The mortar is thickened by this fraction of r (at least 20 chord errors) before it is triangulated, so
 #: that its zero-width parts, where the boundary of the shape is left unchanged, have room for a path.

@@ -39,7 +39,7 @@ from ._validation import check_radius, check_shape, check_tolerance, quad_segs_f
 from .centers import ArcCenters, _arc_centers, _snap_vertices
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
-from .tolerances import DEFAULT_TOLERANCE_R, PENETRATION_R, THICKEN_R, TOUCH_SCALE
+from .tolerances import EXACT_CHORD_R, PENETRATION_R, THICKEN_R, TOUCH_SCALE
 
 __all__ = ["Init", "Tightening", "tighten"]
 
@@ -90,14 +90,22 @@ class _Context:
     def __init__(self, S: Polygon | MultiPolygon, r: float, tolerance: float):
         self.S = S
         self.r = r
-        self.tol_int = min(tolerance, DEFAULT_TOLERANCE_R * r)
-        self.q = quad_segs_for(r, self.tol_int)
-        self.sag = r * (1.0 - math.cos(math.pi / (4 * self.q)))
+        # Two precisions: the shrink and grow whose vertices give the exact centres and against which the
+        # exact loops are checked are sampled finely (EXACT_CHORD_R·r); the core, fillet and thickened
+        # mortar that only guide the search for the homotopy class coarsely (a tenth of the thickening).
         self.delta = THICKEN_R * r
+        self.q_exact = quad_segs_for(r, EXACT_CHORD_R * r)
+        self.sag = r * (1.0 - math.cos(math.pi / (4 * self.q_exact)))
+        self.q = quad_segs_for(r, 0.1 * self.delta)
+        self.sag_dom = r * (1.0 - math.cos(math.pi / (4 * self.q)))
+        self.tol_int = 0.1 * self.delta
+        # A piece may come closer than r to an exact centre only by rounding; to an edge of the buffered
+        # shrink or grow by their own inaccuracy (chords, and GEOS's placement of offset vertices).
+        self.pen_center = 1e-9 * r
         self.pen = 2.0 * self.sag + PENETRATION_R * r
-        E = _m._polygonal(shapely.orient_polygons(S.buffer(-r, quad_segs=self.q)))
-        G = _m._polygonal(shapely.orient_polygons(S.buffer(r, quad_segs=self.q)))
-        self.centers: ArcCenters = _arc_centers(S, r, E, G, self.q)
+        E = _m._orient(_m._shrink(S, r, self.q_exact))
+        G = _m._orient(_m._grow(S, r, self.q_exact))
+        self.centers: ArcCenters = _arc_centers(S, r, E, G, self.q_exact)
         self.E = _snap_vertices(E, self.centers, 1)
         self.G = _snap_vertices(G, self.centers, -1)
         shapely.prepare(self.E)
@@ -115,6 +123,7 @@ class _Context:
                 c = shapely.get_coordinates(ring)
                 edges.append(np.stack([c[:-1], c[1:]], axis=1))
         self.oedges = np.concatenate(edges) if edges else np.zeros((0, 2, 2))
+        self.vertex_center = {(float(x), float(y)): i for i, (x, y) in enumerate(self.cxy.tolist())}
         self.otree = shapely.STRtree(shapely.linestrings(self.oedges)) if len(self.oedges) else None
         self._R = None
         self._F = None
@@ -172,7 +181,7 @@ class _Context:
         out = np.full(len(T.xy), -1, dtype=np.int64)
         is_core = np.array([tuple(p) in self._core_vertices for p in T.xy.tolist()], dtype=bool)
         want = self.r - self.delta
-        slack = 0.5 * self.delta + 4.0 * self.sag
+        slack = 0.5 * self.delta + 4.0 * self.sag_dom
         for side, mask in ((1, is_core), (-1, ~is_core)):
             kd, ids = self._kd[side]
             if kd is None or not mask.any():
@@ -269,10 +278,7 @@ class _DiskLoop:
                 d = q - p
                 L2 = d @ d
                 return 0.0 if L2 == 0 else float(np.clip(((x - p) @ d) / L2, 0, 1))
-            c, r, a0, sw = geom
-            th = math.atan2(x[1] - c[1], x[0] - c[0])
-            off = (th - a0) % _TWO_PI if sw >= 0 else (a0 - th) % _TWO_PI
-            return float(np.clip(off / abs(sw), 0, 1)) if sw != 0 else 0.0
+            return _along((kind, geom, 0.0), x) / (geom[1] * abs(geom[3])) if geom[3] != 0 else 0.0
 
         kind, geom, _ = pcs[piece]
         f = frac_of(kind, geom, point)
@@ -326,77 +332,75 @@ def _drop_indices(values: np.ndarray) -> np.ndarray:
 def _violations(ctx: _Context, L: _DiskLoop):
     """Places where the loop enters the core or the anticore: list of (piece, candidate centre, side, where).
 
-    ``where`` is 0 to insert the candidate after disk ``piece // 2`` for a tangent piece, and for an arc
-    −1 to insert it before the arc's disk, +1 after.
+    Two tests: a piece closer than r to another disk centre (exact: the centres are exact), and a piece
+    closer than r to an edge of the shrink or the grow (the flat parts of the core and fillet, known only
+    to the accuracy of the buffers, hence a looser threshold). ``where`` is 0 to insert the candidate after
+    disk ``piece // 2`` for a tangent piece; for an arc −1 to insert it before the arc's disk, +1 after.
     """
     r = ctx.r
-    thr = r - ctx.pen
+    thr_c = r - ctx.pen_center
+    thr_e = r - ctx.pen
     n = L.n
     P, Q = L.tangent_points()
-    bad_pieces: dict[int, np.ndarray] = {}
-    probe_xy, probe_piece = [], []
+    bad: dict[int, tuple[np.ndarray, set]] = {}
+
+    def flag(piece, point, edges=()):
+        entry = bad.setdefault(piece, (point, set()))
+        entry[1].update(edges)
+
     seg_ids = np.flatnonzero(L.length > 1e-14)
     if len(seg_ids):
         segs = shapely.linestrings(np.stack([P[seg_ids], Q[seg_ids]], axis=1))
-        hits = set()
-        if ctx.ctree is not None:
-            si, _ = ctx.ctree.query(segs, predicate="dwithin", distance=thr)
-            hits.update(seg_ids[si].tolist())
-        if ctx.otree is not None:
-            si, _ = ctx.otree.query(segs, predicate="dwithin", distance=thr)
-            hits.update(seg_ids[si].tolist())
         mid = 0.5 * (P[seg_ids] + Q[seg_ids])
-        inside_e = shapely.contains_xy(ctx.E, mid[:, 0], mid[:, 1]) if not ctx.E.is_empty else np.zeros(len(mid), bool)
-        outside_g = ~shapely.covers_xy(ctx.G, mid[:, 0], mid[:, 1]) if hasattr(shapely, "covers_xy") \
-            else ~shapely.intersects_xy(ctx.G, mid[:, 0], mid[:, 1])
-        hits.update(seg_ids[inside_e | outside_g].tolist())
-        for i in hits:
-            bad_pieces[2 * i + 1] = 0.5 * (P[i] + Q[i])
-    # Arcs: sample points, test them against the obstacle edges and the other centres.
-    a0 = L.arc_start()
-    for i in range(n):
-        sw = L.sweep[i]
-        if sw == 0:
-            continue
-        m = max(2, math.ceil(abs(sw) / (math.pi / 32)))
-        th = a0[i] + sw * (np.arange(1, m) / m)
-        pts = np.column_stack([L.c[i, 0] + r * np.cos(th), L.c[i, 1] + r * np.sin(th)])
-        probe_xy.append(pts)
-        probe_piece.append(np.full(len(pts), 2 * i))
-    if probe_xy:
-        pts = np.concatenate(probe_xy)
-        owner = np.concatenate(probe_piece)
-        geoms = shapely.points(pts)
-        hit = np.zeros(len(pts), dtype=bool)
         if ctx.ctree is not None:
-            pi, ci = ctx.ctree.query(geoms, predicate="dwithin", distance=thr)
-            own = ci == L.cid[owner[pi] // 2]
-            hit[pi[~own]] = True
+            si, _ = ctx.ctree.query(segs, predicate="dwithin", distance=thr_c)
+            for i in np.unique(si):
+                flag(2 * int(seg_ids[i]) + 1, mid[i])
         if ctx.otree is not None:
-            pi, _ = ctx.otree.query(geoms, predicate="dwithin", distance=thr)
-            hit[pi] = True
-        for k in np.flatnonzero(hit):
-            bad_pieces.setdefault(int(owner[k]), pts[k])
+            si, ei = ctx.otree.query(segs, predicate="dwithin", distance=thr_e)
+            for i, e in zip(si.tolist(), ei.tolist()):
+                flag(2 * int(seg_ids[i]) + 1, mid[i], (e,))
+        inside_e = shapely.contains_xy(ctx.E, mid[:, 0], mid[:, 1]) if not ctx.E.is_empty \
+            else np.zeros(len(mid), bool)
+        outside_g = ~shapely.intersects_xy(ctx.G, mid[:, 0], mid[:, 1])
+        for i in np.flatnonzero(inside_e | outside_g):
+            flag(2 * int(seg_ids[i]) + 1, mid[i])
+    # Arcs: points along each, tested against the other centres and the obstacle edges.
+    a0 = L.arc_start()
+    arcs = np.flatnonzero(L.sweep != 0)
+    if len(arcs):
+        m = np.maximum(2, np.ceil(np.abs(L.sweep[arcs]) / (math.pi / 32)).astype(np.int64))
+        owner = np.repeat(arcs, m - 1)
+        first = np.repeat(np.cumsum(m - 1) - (m - 1), m - 1)
+        frac = (np.arange(len(owner)) - first + 1) / np.repeat(m, m - 1)
+        th = a0[owner] + L.sweep[owner] * frac
+        pts = np.column_stack([L.c[owner, 0] + r * np.cos(th), L.c[owner, 1] + r * np.sin(th)])
+        geoms = shapely.points(pts)
+        if ctx.ctree is not None:
+            pi, ci = ctx.ctree.query(geoms, predicate="dwithin", distance=thr_c)
+            keep = ci != L.cid[owner[pi]]
+            for k in np.unique(pi[keep]):
+                flag(2 * int(owner[k]), pts[k])
+        if ctx.otree is not None:
+            pi, ei = ctx.otree.query(geoms, predicate="dwithin", distance=thr_e)
+            for k, e in zip(pi.tolist(), ei.tolist()):
+                flag(2 * int(owner[k]), pts[k], (e,))
     out = []
-    for piece, where in sorted(bad_pieces.items()):
+    for piece in sorted(bad):
+        where, edges = bad[piece]
         disk = piece // 2
         kind = "arc" if piece % 2 == 0 else "seg"
         own = {int(L.cid[disk])} if kind == "arc" else {int(L.cid[disk]), int(L.cid[(disk + 1) % n])}
-        if kind == "seg":
-            geom = shapely.linestrings([P[disk], Q[disk]])
-        else:
-            geom = shapely.points(where)
-        cand = _candidates(ctx, geom, own)
-        if cand is None:
+        geom = shapely.linestrings([P[disk], Q[disk]]) if kind == "seg" else shapely.points(where)
+        ci = _candidate(ctx, geom, own, edges)
+        if ci is None:
             continue
-        ci = cand
         cxy = ctx.cxy[ci]
         if kind == "seg":
             d = Q[disk] - P[disk]
             side = 1 if (d[0] * (cxy[1] - P[disk][1]) - d[1] * (cxy[0] - P[disk][0])) > 0 else -1
             out.append((piece, ci, side, 0))
         else:
-            # Direction of travel at the probe point, and which half of the arc it lies in.
             c = L.c[disk]
             s = L.side[disk]
             v = where - c
@@ -409,16 +413,59 @@ def _violations(ctx: _Context, L: _DiskLoop):
     return out
 
 
-def _candidates(ctx: _Context, geom, own: set[int]):
-    """The centre (not in ``own``) nearest to a piece that enters an obstacle, or None."""
-    for radius in (1.5 * ctx.r, 3.0 * ctx.r):
-        _, ci = ctx.ctree.query(geom, predicate="dwithin", distance=radius) if ctx.ctree is not None \
-            else (np.zeros(0, int), np.zeros(0, int))
-        ci = np.array([c for c in np.atleast_1d(ci).tolist() if c not in own], dtype=np.int64)
-        if len(ci):
-            d = shapely.distance(geom, shapely.points(ctx.cxy[ci]))
-            return int(ci[np.argmin(d)])
+def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
+    """The disk to add where a piece enters an obstacle, or None.
+
+    The deepest-entered other centre if there is one; else, for a piece that crosses a flat part, the
+    exact centre at an end of the crossed edge nearest to the piece; else the nearest centre.
+    """
+    if ctx.ctree is None:
+        return None
+    near = np.atleast_1d(ctx.ctree.query(geom, predicate="dwithin", distance=3.0 * ctx.r))
+    near = np.array([c for c in near.tolist() if c not in own], dtype=np.int64)
+    if len(near):
+        d = shapely.distance(geom, shapely.points(ctx.cxy[near]))
+        if d.min() < ctx.r - ctx.pen_center:
+            return int(near[np.argmin(d)])
+    ends = []
+    for e in edges:
+        for p in ctx.oedges[e]:
+            ci = ctx.vertex_center.get((float(p[0]), float(p[1])))
+            if ci is not None and ci not in own:
+                ends.append(ci)
+    if ends:
+        ends = np.array(sorted(set(ends)), dtype=np.int64)
+        d = shapely.distance(geom, shapely.points(ctx.cxy[ends]))
+        return int(ends[np.argmin(d)])
+    if len(near):
+        d = shapely.distance(geom, shapely.points(ctx.cxy[near]))
+        return int(near[np.argmin(d)])
     return None
+
+
+def _chain_length(ctx: _Context, cids, sides) -> float:
+    """Length of the open chain of tangents and arcs through the interior disks of ``cids``."""
+    c = ctx.cxy[np.asarray(cids)]
+    s = np.asarray(sides, dtype=float)
+    D = c[1:] - c[:-1]
+    d = np.hypot(D[:, 0], D[:, 1])
+    k = (s[1:] - s[:-1]) * ctx.r
+    if (d * d < k * k * (1 - 1e-12)).any() or (d == 0).any():
+        return math.inf
+    L = np.sqrt(np.maximum(d * d - k * k, 0.0))
+    phi = np.arctan2(D[:, 1], D[:, 0]) - np.arctan2(k, L)
+    turn = np.diff(phi)
+    sw = np.where(s[1:-1] > 0, np.mod(turn, _TWO_PI), -np.mod(-turn, _TWO_PI))
+    return float(L.sum() + ctx.r * np.abs(sw).sum())
+
+
+def _insert_before(ctx: _Context, cid, side, disk: int, ci: int, s: int) -> bool:
+    """Whether a disk poking out of the arc at ``disk`` belongs before it (else after it) in the loop."""
+    n = len(cid)
+    prv, nxt = (disk - 1) % n, (disk + 1) % n
+    before = _chain_length(ctx, [cid[prv], ci, cid[disk], cid[nxt]], [side[prv], s, side[disk], side[nxt]])
+    after = _chain_length(ctx, [cid[prv], cid[disk], ci, cid[nxt]], [side[prv], side[disk], s, side[nxt]])
+    return before < after
 
 
 def _finish(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray) -> _DiskLoop | None:
@@ -462,11 +509,15 @@ def _finish(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray) -
         viol = _violations(ctx, loop)
         if not viol:
             return loop
-        # Insert the candidates, from the back so that earlier indices stay valid.
+        # Insert the candidates, from the back so that earlier indices stay valid. A disk that pokes out
+        # of an arc goes before or after the arc's disk, whichever makes the shorter local chain.
         ins = {}
         for piece, ci, s, where in viol:
             disk = piece // 2
-            pos = disk + 1 if (piece % 2 == 1 or where > 0) else disk
+            if piece % 2 == 1:
+                pos = disk + 1
+            else:
+                pos = disk if _insert_before(ctx, cid, side, disk, ci, s) else disk + 1
             ins.setdefault(pos, (ci, s))
         cid_l, side_l, ref_l = cid.tolist(), side.tolist(), sw.tolist()
         for pos in sorted(ins, reverse=True):
@@ -576,7 +627,10 @@ def _along(piece, x) -> float:
     c, r, a0, sw = g
     th = math.atan2(x[1] - c[1], x[0] - c[0])
     off = (th - a0) % _TWO_PI if sw >= 0 else (a0 - th) % _TWO_PI
-    return r * min(off, abs(sw))
+    if off > abs(sw):
+        # Outside the arc by rounding: snap to the nearer end.
+        off = 0.0 if (_TWO_PI - off) < (off - abs(sw)) else abs(sw)
+    return r * off
 
 
 def _reconnect(ctx: _Context, loops: list[_DiskLoop], contact) -> list[np.ndarray]:
@@ -735,16 +789,33 @@ class Tightening:
         problems: list[str] = []
         r, tol = self.r, self.tolerance
         T = self.geometry
-        slack = 2.0 * tol
-        scale = max(self.shape.bounds[2] - self.shape.bounds[0], self.shape.bounds[3] - self.shape.bounds[1])
-        tiny = 1e-9 * scale * scale
-        R, F = self.core, self.fillet
-        out_r = R.difference(T.buffer(slack)).area if not R.is_empty else 0.0
+        info = self._cache.get("_exact")
+        if info is not None:
+            # Reference core and fillet built on the exact centres (the shrink's convex vertices and the
+            # grow's reflex vertices moved onto them), four times finer than the tolerance, in the local
+            # frame. The exact loops may graze the core or the anticore by the engine's penetration
+            # threshold, and the sampled geometry lies within `tolerance` of them.
+            ctx, _ = info
+            frame = self._cache["_frame"]
+            q = quad_segs_for(ctx.r, 0.25 * tol / frame.scale)
+            R = _m._nudge(_m._polygonal(shapely.intersection(_m._grow(ctx.E, ctx.r, q), ctx.S)), ctx.S, True) \
+                if not ctx.E.is_empty else Polygon()
+            F = _m._nudge(_m._polygonal(shapely.union(_m._shrink(ctx.G, ctx.r, q), ctx.S)), ctx.S, False)
+            T_loc = frame.to_local(T) if not T.is_empty else T
+            slack = (1.25 * tol) / frame.scale + ctx.pen
+            tiny = 1e-9
+        else:
+            R = _m.core(self.shape, r, tolerance=tol / 4)
+            F = _m.fillet(self.shape, r, tolerance=tol / 4)
+            T_loc, slack = T, 2 * tol
+            x0, y0, x1, y1 = self.shape.bounds
+            tiny = 1e-9 * max(x1 - x0, y1 - y0) ** 2
+        out_r = R.difference(T_loc.buffer(slack)).area if not R.is_empty else 0.0
         if out_r > tiny:
-            problems.append(f"(a) the tightening misses {out_r:.3g} of the core's area")
-        out_f = T.difference(F.buffer(slack)).area if not T.is_empty else 0.0
+            problems.append(f"(a) the tightening misses {out_r:.3g} (local units) of the core's area")
+        out_f = T_loc.difference(F.buffer(slack)).area if not T_loc.is_empty else 0.0
         if out_f > tiny:
-            problems.append(f"(a) the tightening extends {out_f:.3g} of area outside the fillet")
+            problems.append(f"(a) the tightening extends {out_f:.3g} (local units) of area outside the fillet")
         if not T.is_valid:
             problems.append(f"(b) geometry is invalid: {shapely.is_valid_reason(T)}")
         for i, loop in enumerate(self.loops):
@@ -873,4 +944,5 @@ def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None =
     result = Tightening(loops=loops, geometry=geometry, r=r, init=init.value, tolerance=tol, shape=S,
                         converged=all(L.converged for L in disk_loops))
     result._cache["_exact"] = (ctx, disk_loops)
+    result._cache["_frame"] = frame
     return result
