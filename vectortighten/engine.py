@@ -39,7 +39,7 @@ from ._validation import check_radius, check_shape, check_tolerance, quad_segs_f
 from .centers import ArcCenters, _arc_centers, _snap_vertices
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
-from .tolerances import EXACT_CHORD_R, PENETRATION_R, THICKEN_R, TOUCH_SCALE
+from .tolerances import EXACT_CHORD_R, PENETRATION_R, THICKEN_R, TOUCH_SCALE, ZERO_SCALE
 
 __all__ = ["Init", "Tightening", "tighten"]
 
@@ -115,14 +115,19 @@ class _Context:
         self.ctree = shapely.STRtree(shapely.points(self.cxy)) if len(self.cxy) else None
         self._kd = {s: (cKDTree(self.cxy[self.cside == s]) if (self.cside == s).any() else None,
                         np.flatnonzero(self.cside == s)) for s in (1, -1)}
-        edges = []
-        for P in (self.E, self.G):
+        edges, kinds = [], []
+        for kind, P in ((1, self.E), (-1, self.G)):
             if P.is_empty:
                 continue
             for ring in shapely.get_rings(shapely.get_parts(P)):
                 c = shapely.get_coordinates(ring)
                 edges.append(np.stack([c[:-1], c[1:]], axis=1))
+                kinds.append(np.full(len(c) - 1, kind, dtype=np.int8))
         self.oedges = np.concatenate(edges) if edges else np.zeros((0, 2, 2))
+        self.okind = np.concatenate(kinds) if kinds else np.zeros(0, dtype=np.int8)
+        shapely.prepare(self.S)
+        self.S_boundary = self.S.boundary
+        shapely.prepare(self.S_boundary)
         self.vertex_center = {(float(x), float(y)): i for i, (x, y) in enumerate(self.cxy.tolist())}
         self.otree = shapely.STRtree(shapely.linestrings(self.oedges)) if len(self.oedges) else None
         self._R = None
@@ -358,7 +363,8 @@ def _violations(ctx: _Context, L: _DiskLoop):
                 flag(2 * int(seg_ids[i]) + 1, mid[i])
         if ctx.otree is not None:
             si, ei = ctx.otree.query(segs, predicate="dwithin", distance=thr_e)
-            for i, e in zip(si.tolist(), ei.tolist()):
+            keep = _real_entries(ctx, segs[si], ei)
+            for i, e in zip(si[keep].tolist(), ei[keep].tolist()):
                 flag(2 * int(seg_ids[i]) + 1, mid[i], (e,))
         inside_e = shapely.contains_xy(ctx.E, mid[:, 0], mid[:, 1]) if not ctx.E.is_empty \
             else np.zeros(len(mid), bool)
@@ -383,7 +389,8 @@ def _violations(ctx: _Context, L: _DiskLoop):
                 flag(2 * int(owner[k]), pts[k])
         if ctx.otree is not None:
             pi, ei = ctx.otree.query(geoms, predicate="dwithin", distance=thr_e)
-            for k, e in zip(pi.tolist(), ei.tolist()):
+            keep = _real_entries(ctx, geoms[pi], ei)
+            for k, e in zip(pi[keep].tolist(), ei[keep].tolist()):
                 flag(2 * int(owner[k]), pts[k], (e,))
     out = []
     for piece in sorted(bad):
@@ -411,6 +418,23 @@ def _violations(ctx: _Context, L: _DiskLoop):
                 ((a0[disk] - th) % _TWO_PI) / abs(L.sweep[disk])
             out.append((piece, ci, side, -1 if frac < 0.5 else 1))
     return out
+
+
+def _real_entries(ctx: _Context, pieces, edges) -> np.ndarray:
+    """Which (piece, obstacle edge) closeness reports can be real.
+
+    The anticore lies outside S and the core inside it, so a piece can enter the anticore only at a point
+    outside S, and the core only at a point inside. The point of the piece nearest to the reported edge
+    tells; this removes the reports that come from the buffers' inaccuracy alone.
+    """
+    if len(edges) == 0:
+        return np.zeros(0, dtype=bool)
+    near = shapely.get_point(shapely.shortest_line(pieces, shapely.linestrings(ctx.oedges[edges])), 0)
+    xy = shapely.get_coordinates(near)
+    inside = shapely.contains_xy(ctx.S, xy[:, 0], xy[:, 1])
+    on_edge = shapely.dwithin(ctx.S_boundary, near, ZERO_SCALE)
+    kind = ctx.okind[edges]
+    return np.where(kind > 0, inside & ~on_edge, ~inside & ~on_edge)
 
 
 def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
