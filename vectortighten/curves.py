@@ -295,6 +295,8 @@ class Loop:
 
     Notes
     -----
+    The pieces are held as arrays (one row per piece), so that loops of hundreds of thousands of pieces
+    measure and sample quickly; ``pieces`` builds the `Segment` and `Arc` objects on first use.
     ``length`` and ``area`` are exact sums over the pieces (Green's theorem for the area); the area is
     positive for a counter-clockwise loop. ``sample`` gives polygon coordinates for shapely.
 
@@ -309,20 +311,63 @@ class Loop:
     True
     """
 
-    __slots__ = ("pieces",)
+    __slots__ = ("_arc", "_data", "_pieces")
 
     def __init__(self, pieces: Iterable[Piece], atol: float | None = None):
-        self.pieces: tuple[Piece, ...] = tuple(pieces)
-        if not self.pieces:
+        pieces = tuple(pieces)
+        if not pieces:
             raise ValueError("a loop needs at least one piece")
+        arc = np.array([isinstance(p, Arc) for p in pieces], dtype=bool)
+        data = np.array([(p.center[0], p.center[1], p.radius, p.start_angle, p.sweep) if isinstance(p, Arc)
+                         else (p.start[0], p.start[1], p.end[0], p.end[1], 0.0) for p in pieces], dtype=float)
+        self._arc, self._data, self._pieces = arc, data, pieces
+        self._check_closed(atol)
+
+    @classmethod
+    def _from_arrays(cls, arc: np.ndarray, data: np.ndarray, atol: float | None = math.inf) -> Loop:
+        """A loop from its array form: ``arc[i]`` tells the kind of piece i; ``data[i]`` is
+        ``(cx, cy, radius, start_angle, sweep)`` for an arc, ``(x0, y0, x1, y1, 0)`` for a segment."""
+        if len(arc) == 0:
+            raise ValueError("a loop needs at least one piece")
+        self = object.__new__(cls)
+        self._arc = np.asarray(arc, dtype=bool)
+        self._data = np.asarray(data, dtype=float)
+        self._pieces = None
+        self._check_closed(atol)
+        return self
+
+    def _check_closed(self, atol):
+        if atol == math.inf:
+            return
+        start, end = self._ends()
         if atol is None:
             x0, y0, x1, y1 = self.bounds
             atol = 1e-9 * max(x1 - x0, y1 - y0, 1e-300)
-        for i, piece in enumerate(self.pieces):
-            nxt = self.pieces[(i + 1) % len(self.pieces)]
-            gap = math.hypot(piece.end[0] - nxt.start[0], piece.end[1] - nxt.start[1])
-            if gap > atol:
-                raise ValueError(f"loop is not closed: piece {i} ends {gap:.3g} away from where the next starts")
+        gap = np.hypot(*(end - np.roll(start, -1, axis=0)).T)
+        if (gap > atol).any():
+            i = int(np.argmax(gap))
+            raise ValueError(f"loop is not closed: piece {i} ends {gap[i]:.3g} away from where the next starts")
+
+    def _ends(self) -> tuple[np.ndarray, np.ndarray]:
+        """Start and end points of every piece, ``(n, 2)`` each."""
+        d, arc = self._data, self._arc
+        a0, a1 = d[:, 3], d[:, 3] + d[:, 4]
+        start = np.where(arc[:, None], d[:, :2] + d[:, 2:3] * np.column_stack([np.cos(a0), np.sin(a0)]), d[:, :2])
+        end = np.where(arc[:, None], d[:, :2] + d[:, 2:3] * np.column_stack([np.cos(a1), np.sin(a1)]), d[:, 2:4])
+        return start, end
+
+    def _tangents(self) -> tuple[np.ndarray, np.ndarray]:
+        """Unit tangent at the start and at the end of every piece."""
+        d, arc = self._data, self._arc
+        seg_dir = d[:, 2:4] - d[:, :2]
+        norm = np.hypot(*seg_dir.T)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            seg_dir = seg_dir / norm[:, None]
+        sign = np.where(d[:, 4] >= 0, 1.0, -1.0)
+        a0, a1 = d[:, 3], d[:, 3] + d[:, 4]
+        t0 = np.column_stack([-sign * np.sin(a0), sign * np.cos(a0)])
+        t1 = np.column_stack([-sign * np.sin(a1), sign * np.cos(a1)])
+        return np.where(arc[:, None], t0, seg_dir), np.where(arc[:, None], t1, seg_dir)
 
     # -- construction -------------------------------------------------------------------------------
     @classmethod
@@ -338,7 +383,8 @@ class Loop:
             pts = pts[:-1]
         if len(pts) < 2:
             raise ValueError("a ring needs at least two distinct vertices")
-        return cls([Segment(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))])
+        data = np.column_stack([pts, np.roll(pts, -1, axis=0), np.zeros(len(pts))])
+        return cls._from_arrays(np.zeros(len(pts), dtype=bool), data)
 
     @classmethod
     def from_disks(cls, centers, sides, r: float, reference_sweeps=None) -> Loop:
@@ -384,30 +430,57 @@ class Loop:
             i = int(np.flatnonzero(~ok)[0])
             raise ValueError(f"disks {i} and {(i + 1) % n} have no common tangent of the required kind")
         sweeps = arc_sweeps(phi, s, reference_sweeps)
-        pieces: list[Piece] = []
+        return cls._from_disk_arrays(c, s, r, phi, length, sweeps)
+
+    @classmethod
+    def _from_disk_arrays(cls, c, s, r, phi, length, sweeps) -> Loop:
+        """Loop from disks with their tangent directions, tangent lengths and arc sweeps (all exact)."""
+        n = len(c)
         normal = np.column_stack([-np.sin(phi), np.cos(phi)])
-        for i in range(n):
-            j = (i + 1) % n
-            start_angle = phi[i - 1] - s[i] * math.pi / 2
-            if sweeps[i] != 0.0:
-                pieces.append(Arc(c[i], r, start_angle, sweeps[i]))
-            p = c[i] - s[i] * r * normal[i]
-            q = c[j] - s[j] * r * normal[i]
-            if length[i] > 0:
-                pieces.append(Segment(p, q))
-        return cls(pieces, atol=1e-7 * max(r, float(np.ptp(c, axis=0).max())))
+        P = c - (s * r)[:, None] * normal
+        Q = np.roll(c, -1, axis=0) - (np.roll(s, -1) * r)[:, None] * normal
+        start = np.roll(phi, 1) - s * (math.pi / 2)
+        arc_rows = np.column_stack([c, np.full(n, r), start, sweeps])
+        seg_rows = np.column_stack([P, Q, np.zeros(n)])
+        data = np.empty((2 * n, 5))
+        data[0::2], data[1::2] = arc_rows, seg_rows
+        arc = np.zeros(2 * n, dtype=bool)
+        arc[0::2] = True
+        keep = np.where(arc, data[:, 4] != 0.0, np.repeat(length, 2) > 0)
+        if not keep.any():
+            keep[0] = True
+        return cls._from_arrays(arc[keep], data[keep])
+
+    # -- pieces -------------------------------------------------------------------------------------
+    @property
+    def pieces(self) -> tuple[Piece, ...]:
+        """The pieces as `Segment` and `Arc` objects."""
+        if self._pieces is None:
+            self._pieces = tuple(Arc((row[0], row[1]), row[2], row[3], row[4]) if is_arc
+                                 else Segment((row[0], row[1]), (row[2], row[3]))
+                                 for is_arc, row in zip(self._arc.tolist(), self._data.tolist()))
+        return self._pieces
 
     # -- measures -----------------------------------------------------------------------------------
     @property
     def length(self) -> float:
         """Exact length."""
-        return math.fsum(p.length for p in self.pieces)
+        d = self._data
+        seg = np.hypot(d[:, 2] - d[:, 0], d[:, 3] - d[:, 1])
+        return math.fsum(np.where(self._arc, d[:, 2] * np.abs(d[:, 4]), seg).tolist())
 
     @property
     def area(self) -> float:
         """Exact signed area enclosed (positive for a counter-clockwise loop)."""
-        o = self.pieces[0].start
-        return math.fsum(p.area_term(o) for p in self.pieces)
+        d = self._data
+        start, _ = self._ends()
+        o = start[0]
+        x0, y0, x1, y1 = d[:, 0] - o[0], d[:, 1] - o[1], d[:, 2] - o[0], d[:, 3] - o[1]
+        seg = 0.5 * (x0 * y1 - x1 * y0)
+        r, a0, sw = d[:, 2], d[:, 3], d[:, 4]
+        a1 = a0 + sw
+        arc = 0.5 * (r * r * sw + r * x0 * (np.sin(a1) - np.sin(a0)) - r * y0 * (np.cos(a1) - np.cos(a0)))
+        return math.fsum(np.where(self._arc, arc, seg).tolist())
 
     @property
     def is_ccw(self) -> bool:
@@ -425,33 +498,45 @@ class Loop:
         return [p for p in self.pieces if isinstance(p, Segment)]
 
     @property
+    def radii(self) -> np.ndarray:
+        """Radius of every arc."""
+        return self._data[self._arc, 2].copy()
+
+    @property
     def bounds(self) -> tuple[float, float, float, float]:
-        """``(minx, miny, maxx, maxy)``."""
-        b = np.array([p.bounds for p in self.pieces])
-        return (float(b[:, 0].min()), float(b[:, 1].min()), float(b[:, 2].max()), float(b[:, 3].max()))
+        """``(minx, miny, maxx, maxy)``, exact (arcs count with the extreme points they pass)."""
+        start, end = self._ends()
+        pts = [start, end]
+        d = self._data[self._arc]
+        if len(d):
+            lo = np.minimum(d[:, 3], d[:, 3] + d[:, 4])
+            hi = np.maximum(d[:, 3], d[:, 3] + d[:, 4])
+            for k in range(4):
+                ang = k * math.pi / 2
+                # The axis direction ang + 2πm inside [lo, hi] for some integer m.
+                m = np.ceil((lo - ang) / _TWO_PI)
+                hit = ang + _TWO_PI * m <= hi
+                if hit.any():
+                    e = d[hit]
+                    pts.append(e[:, :2] + e[:, 2:3] * np.array([[math.cos(ang), math.sin(ang)]]))
+        allp = np.concatenate(pts)
+        return (float(allp[:, 0].min()), float(allp[:, 1].min()), float(allp[:, 0].max()), float(allp[:, 1].max()))
+
+    def corner_angles(self) -> np.ndarray:
+        """Absolute angle between the end tangent of each piece and the start tangent of the next."""
+        t0, t1 = self._tangents()
+        a, b = t1, np.roll(t0, -1, axis=0)
+        ang = np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1)))
+        return np.where(np.isfinite(ang), ang, 0.0)
 
     @property
     def total_turn(self) -> float:
         """Sum of the signed turning of the loop (arcs and corners): ±2π for a simple G1 loop."""
-        turn = math.fsum(p.sweep for p in self.arcs)
-        for i, p in enumerate(self.pieces):
-            q = self.pieces[(i + 1) % len(self.pieces)]
-            a, b = p.tangent_at(1.0), q.tangent_at(0.0)
-            if all(map(math.isfinite, a + b)):
-                turn += math.atan2(a[0] * b[1] - a[1] * b[0], a[0] * b[0] + a[1] * b[1])
-        return turn
-
-    def corner_angles(self) -> np.ndarray:
-        """Absolute angle between the end tangent of each piece and the start tangent of the next."""
-        out = []
-        for i, p in enumerate(self.pieces):
-            q = self.pieces[(i + 1) % len(self.pieces)]
-            a, b = p.tangent_at(1.0), q.tangent_at(0.0)
-            if not all(map(math.isfinite, a + b)):
-                out.append(0.0)
-                continue
-            out.append(abs(math.atan2(a[0] * b[1] - a[1] * b[0], a[0] * b[0] + a[1] * b[1])))
-        return np.array(out)
+        t0, t1 = self._tangents()
+        a, b = t1, np.roll(t0, -1, axis=0)
+        corner = np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1))
+        corner = np.where(np.isfinite(corner), corner, 0.0)
+        return math.fsum((self._data[self._arc, 4]).tolist()) + math.fsum(corner.tolist())
 
     def is_g1(self, atol: float = 1e-9) -> bool:
         """True if every join between pieces is tangent-continuous within ``atol`` radians."""
@@ -462,22 +547,46 @@ class Loop:
         """Exact minimum radius of curvature: the smallest arc radius, 0 if a join has a corner, else inf."""
         if not self.is_g1(1e-7):
             return 0.0
-        radii = [p.radius for p in self.arcs]
-        return min(radii) if radii else math.inf
+        radii = self.radii
+        return float(radii.min()) if len(radii) else math.inf
 
     # -- transformations ----------------------------------------------------------------------------
     def reversed(self) -> Loop:
         """The same loop run the other way."""
-        return Loop([p.reversed() for p in reversed(self.pieces)], atol=math.inf)
+        d = self._data[::-1].copy()
+        arc = self._arc[::-1].copy()
+        seg = ~arc
+        d[seg] = d[seg][:, [2, 3, 0, 1, 4]]
+        d[arc, 3] = d[arc, 3] + d[arc, 4]
+        d[arc, 4] = -d[arc, 4]
+        return Loop._from_arrays(arc, d)
 
     def affine(self, scale: float, dx: float, dy: float) -> Loop:
         """The loop under ``p -> scale·p + (dx, dy)`` with ``scale > 0``."""
-        return Loop([p.affine(scale, dx, dy) for p in self.pieces], atol=math.inf)
+        d = self._data.copy()
+        d[:, :2] = d[:, :2] * scale + (dx, dy)
+        seg = ~self._arc
+        d[seg, 2:4] = d[seg, 2:4] * scale + (dx, dy)
+        d[self._arc, 2] *= scale
+        return Loop._from_arrays(self._arc.copy(), d)
 
     # -- output -------------------------------------------------------------------------------------
     def sample(self, tolerance: float) -> np.ndarray:
-        """Closed polygon coordinates ``(n + 1, 2)``: arcs by chords within ``tolerance``, first point repeated."""
-        pts = np.concatenate([p.sample(tolerance) for p in self.pieces])
+        """Closed polygon coordinates ``(n + 1, 2)``: arcs by chords within ``tolerance``, first point repeated.
+
+        Every point lies on the exact curve (the chords of an arc lie on its centre's side).
+        """
+        d, arc = self._data, self._arc
+        r = np.where(arc, d[:, 2], 1.0)
+        step = np.where(tolerance >= r, math.pi / 2, 2.0 * np.arccos(np.clip(1.0 - tolerance / r, -1.0, 1.0)))
+        count = np.where(arc, np.maximum(1, np.ceil(np.abs(d[:, 4]) / step - 1e-9)), 1).astype(np.int64)
+        owner = np.repeat(np.arange(len(d)), count)
+        first = np.repeat(np.cumsum(count) - count, count)
+        frac = (np.arange(len(owner)) - first) / count[owner]
+        row = d[owner]
+        th = row[:, 3] + row[:, 4] * frac
+        pts = np.where(arc[owner][:, None],
+                       row[:, :2] + row[:, 2:3] * np.column_stack([np.cos(th), np.sin(th)]), row[:, :2])
         return np.concatenate([pts, pts[:1]])
 
     def to_ring(self, tolerance: float) -> LinearRing:
@@ -490,19 +599,19 @@ class Loop:
 
     def svg_path(self, precision: int = 12) -> str:
         """SVG path data with real ``A`` commands, in the loop's own coordinates, closed with ``Z``."""
-        x, y = self.pieces[0].start
-        cmds = [f"M {_fmt(x, precision)} {_fmt(y, precision)}"]
+        start, _ = self._ends()
+        cmds = [f"M {_fmt(start[0, 0], precision)} {_fmt(start[0, 1], precision)}"]
         cmds += [p.svg(precision) for p in self.pieces]
         return " ".join(cmds) + " Z"
 
     def __len__(self) -> int:
-        return len(self.pieces)
+        return len(self._arc)
 
     def __iter__(self):
         return iter(self.pieces)
 
     def __repr__(self) -> str:
-        return (f"<Loop {len(self.pieces)} pieces ({len(self.arcs)} arcs), length {self.length:.6g}, "
+        return (f"<Loop {len(self)} pieces ({int(self._arc.sum())} arcs), length {self.length:.6g}, "
                 f"area {self.area:.6g}>")
 
 

@@ -33,6 +33,7 @@ import shapely
 from scipy.spatial import cKDTree
 from shapely.geometry import MultiPolygon, Polygon
 
+from . import _fast
 from . import morphology as _m
 from ._pieces import piece_distance
 from ._validation import check_radius, check_shape, check_tolerance, quad_segs_for
@@ -250,15 +251,8 @@ class _DiskLoop:
     def to_loop(self) -> Loop:
         if self.n == 1:
             return Loop.circle(self.c[0], self.r, ccw=self.sweep[0] > 0)
-        P, Q = self.tangent_points()
-        a0 = self.arc_start()
-        pieces = []
-        for i in range(self.n):
-            if self.sweep[i] != 0.0:
-                pieces.append(Arc(self.c[i], self.r, a0[i], self.sweep[i]))
-            if self.length[i] > 0:
-                pieces.append(Segment(P[i], Q[i]))
-        return Loop(pieces, atol=math.inf)
+        return Loop._from_disk_arrays(self.c, self.side.astype(float), self.r, self.phi, self.length,
+                                      self.sweep)
 
     @property
     def perimeter(self) -> float:
@@ -813,7 +807,7 @@ class Tightening:
         problems: list[str] = []
         r, tol = self.r, self.tolerance
         T = self.geometry
-        info = self._cache.get("_exact")
+        info = self._exact_context()
         if info is not None:
             # Reference core and fillet built on the exact centres (the shrink's convex vertices and the
             # grow's reflex vertices moved onto them), four times finer than the tolerance, in the local
@@ -856,15 +850,31 @@ class Tightening:
             problems.append("the exact finish did not converge everywhere")
         return problems
 
+    def _exact_context(self):
+        """The engine's context and exact disk loops, in the local frame (built now if the fast path ran)."""
+        info = self._cache.get("_exact")
+        if info is None:
+            return None
+        ctx, disk_loops, args = info
+        if ctx is None:
+            ctx = _Context(*args)
+            disk_loops = [_rebind(ctx, L) for L in disk_loops]
+            self._cache["_exact"] = (ctx, disk_loops, args)
+        return ctx, disk_loops
+
     def _check_exact(self) -> list[str]:
         """Arcs on the right boundary, pieces inside the mortar, loops disjoint — in the local frame."""
-        info = self._cache.get("_exact")
+        info = self._exact_context()
         if info is None:
             return []
         ctx, disk_loops = info
         problems = []
         for i, L in enumerate(disk_loops):
-            wrong = np.flatnonzero((ctx.cside[L.cid] != L.side) & (L.sweep != 0))
+            if (L.cid < 0).any():
+                problems.append(f"(c) loop {i} has {int((L.cid < 0).sum())} arc(s) not centred on an arc centre "
+                                "of the core or the fillet")
+            known = L.cid >= 0
+            wrong = np.flatnonzero(known & (ctx.cside[np.where(known, L.cid, 0)] != L.side) & (L.sweep != 0))
             if len(wrong):
                 problems.append(f"(c) loop {i} wraps {len(wrong)} disk(s) from the wrong side")
             if _violations(ctx, L):
@@ -872,6 +882,15 @@ class Tightening:
         if _contacts(ctx, disk_loops):
             problems.append("(b) two loops (or two parts of one) touch")
         return problems
+
+
+def _rebind(ctx: _Context, L: _DiskLoop) -> _DiskLoop:
+    """The same loop with its disks numbered as the context's centres (−1 where none coincides)."""
+    if len(ctx.cxy) == 0:
+        return L
+    d, j = cKDTree(ctx.cxy).query(L.c)
+    cid = np.where(d <= 1e-9 * ctx.r, j, -1)
+    return _DiskLoop(cid, L.side, L.c, L.phi, L.length, L.sweep, L.r, L.converged)
 
 
 def _assemble(loops: list[Loop], tol: float):
@@ -957,16 +976,33 @@ def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None =
         init = Init(init.value if isinstance(init, Init) else init)
     except ValueError:
         raise ValueError(f"init must be 'core', 'input' or 'mason', got {init!r}") from None
+    return _tighten(S, r, init, tol)
+
+
+def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Tightening:
+    """`tighten` on checked arguments; ``allow_fast=False`` forces the general engine (for testing)."""
     frame = _Frame.of(S)
     S_local = frame.to_local(S)
     r_l, tol_l = r / frame.scale, tol / frame.scale
-    ctx = _Context(S_local, r_l, tol_l)
-    rings = _initial_rings(ctx, S_local, init)
-    disk_loops = _tighten_all(ctx, rings) if rings else []
-    loops = [frame.loop_to_world(L.to_loop()) for L in disk_loops]
-    geometry = _assemble(loops, tol)
+    q_exact = quad_segs_for(r_l, EXACT_CHORD_R * r_l)
+    fast = _fast.fast_disk_loops(S_local, r_l, q_exact, init.value) if allow_fast else None
+    ctx = None
+    if fast is not None:
+        disk_loops = [_DiskLoop(np.full(len(c), -1), s.astype(np.int64), c, phi, ln, sw, r_l)
+                      for c, s, phi, ln, sw in fast]
+        loops = [frame.loop_to_world(L.to_loop()) for L in disk_loops]
+        geometry = _assemble(loops, tol)
+        if not geometry.is_valid or geometry.is_empty:
+            fast = None
+    if fast is None:
+        ctx = _Context(S_local, r_l, tol_l)
+        rings = _initial_rings(ctx, S_local, init)
+        disk_loops = _tighten_all(ctx, rings) if rings else []
+        loops = [frame.loop_to_world(L.to_loop()) for L in disk_loops]
+        geometry = _assemble(loops, tol)
     result = Tightening(loops=loops, geometry=geometry, r=r, init=init.value, tolerance=tol, shape=S,
                         converged=all(L.converged for L in disk_loops))
-    result._cache["_exact"] = (ctx, disk_loops)
+    result._cache["_exact"] = (ctx, disk_loops, (S_local, r_l, tol_l))
     result._cache["_frame"] = frame
+    result._cache["_path"] = "fast" if fast is not None else "general"
     return result
