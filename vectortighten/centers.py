@@ -21,7 +21,7 @@ from ._validation import check_radius, check_shape, check_tolerance, quad_segs_f
 from .curves import Side
 from .tolerances import ANGLE_ZERO, CENTER_SEARCH_R, ZERO_SCALE
 
-__all__ = ["ArcCenters", "arc_centers", "boundary_edges"]
+__all__ = ["ArcCenters", "arc_centers", "boundary_edges", "snap_to_centers"]
 
 
 def boundary_edges(S: Polygon | MultiPolygon) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -197,8 +197,76 @@ def _point_point(q1, q2, r):
     return [m + off * n, m - off * n]
 
 
+def _solve_many(p, fa, fb, a, b, r, side):
+    """Vectorised solve of "distance r from feature fa and from feature fb", nearest solution to p.
+
+    Returns ``(m, 2)`` solutions (NaN where there is none or the case is degenerate).
+    """
+    fa, fb = fa.copy(), fb.copy()
+    swap = (fa % 2 == 1) & (fb % 2 == 0)
+    fa[swap], fb[swap] = fb[swap], fa[swap]
+    ia, ib = fa // 2, fb // 2
+    out = np.full((len(p), 2), np.nan)
+
+    def offset(i):
+        d = b[i] - a[i]
+        L = np.hypot(d[:, 0], d[:, 1])[:, None]
+        u = d / L
+        n = np.column_stack([-u[:, 1], u[:, 0]])
+        return a[i] + side * r * n, u, n
+
+    ll = (fa % 2 == 0) & (fb % 2 == 0)
+    if ll.any():
+        o1, u1, n1 = offset(ia[ll])
+        o2, u2, n2 = offset(ib[ll])
+        det = n1[:, 0] * n2[:, 1] - n1[:, 1] * n2[:, 0]
+        r1 = (n1 * o1).sum(axis=1)
+        r2 = (n2 * o2).sum(axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = (r1 * n2[:, 1] - r2 * n1[:, 1]) / det
+            y = (n1[:, 0] * r2 - n2[:, 0] * r1) / det
+        sol = np.column_stack([x, y])
+        sol[np.abs(det) < 1e-12] = np.nan
+        out[ll] = sol
+    lp = (fa % 2 == 0) & (fb % 2 == 1)
+    if lp.any():
+        o, u, _ = offset(ia[lp])
+        q = a[ib[lp]]
+        w = o - q
+        beta = (u * w).sum(axis=1)
+        disc = beta * beta - ((w * w).sum(axis=1) - r * r)
+        root = np.sqrt(np.maximum(disc, 0.0))
+        c1 = o + (-beta - root)[:, None] * u
+        c2 = o + (-beta + root)[:, None] * u
+        pick = np.hypot(*(c1 - p[lp]).T) <= np.hypot(*(c2 - p[lp]).T)
+        sol = np.where(pick[:, None], c1, c2)
+        sol[disc < -1e-9 * r * r] = np.nan
+        out[lp] = sol
+    pp = (fa % 2 == 1) & (fb % 2 == 1)
+    if pp.any():
+        q1, q2 = a[ia[pp]], a[ib[pp]]
+        m = 0.5 * (q1 + q2)
+        h = 0.5 * np.hypot(*(q2 - q1).T)
+        off = np.sqrt(np.maximum(r * r - h * h, 0.0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            d = (q2 - q1) / (2 * h)[:, None]
+        n = np.column_stack([-d[:, 1], d[:, 0]])
+        c1, c2 = m + off[:, None] * n, m - off[:, None] * n
+        pick = np.hypot(*(c1 - p[pp]).T) <= np.hypot(*(c2 - p[pp]).T)
+        sol = np.where(pick[:, None], c1, c2)
+        sol[(h == 0) | (h > r * (1 + 1e-12))] = np.nan
+        out[pp] = sol
+    return out
+
+
 def _refine(points, side, a, b, nxt, tree, r, window, scale):
-    """Exact centres near the approximate ``points`` (one side); returns xy, features, exact flags."""
+    """Exact centres near the approximate ``points`` (one side); returns xy, features, exact flags.
+
+    Each point is matched with the features of S (edge lines, vertices) whose distance from it lies in a
+    band of half-width ``w`` around r; the common case of exactly two is solved vectorised, the rest one by
+    one over all pairs. The band widens (×10, ×100, ×300) for points still unmatched: GEOS's buffers may
+    misplace a vertex by up to a hundredth of r where it simplifies its input.
+    """
     n = len(points)
     xy = points.copy()
     feats = np.full((n, 2), -1, dtype=np.int64)
@@ -206,7 +274,7 @@ def _refine(points, side, a, b, nxt, tree, r, window, scale):
     if n == 0:
         return xy, feats, exact
     tiny = ZERO_SCALE * scale
-    for attempt, w in enumerate((window, 10 * window, 100 * window)):
+    for w in (window, 10 * window, 100 * window, 300 * window):
         todo = np.flatnonzero(~exact)
         if len(todo) == 0:
             break
@@ -223,43 +291,69 @@ def _refine(points, side, a, b, nxt, tree, r, window, scale):
         # An edge whose nearest point is (close to) an end contributes that vertex; one whose nearest point
         # is inside contributes its line; near an end it contributes both and the solve decides.
         slack = w / np.sqrt(L2[near])
-        keys, owners = [], []
         line = (t > -slack) & (t < 1 + slack)
-        keys.append(2 * ei[line]); owners.append(pi[line])
         at0 = t < slack
-        keys.append(2 * ei[at0] + 1); owners.append(pi[at0])
         at1 = t > 1 - slack
-        keys.append(2 * nxt[ei[at1]] + 1); owners.append(pi[at1])
-        keys = np.concatenate(keys)
-        owners = np.concatenate(owners)
+        keys = np.concatenate([2 * ei[line], 2 * ei[at0] + 1, 2 * nxt[ei[at1]] + 1])
+        owners = np.concatenate([pi[line], pi[at0], pi[at1]])
         pairs = np.unique(np.column_stack([owners, keys]), axis=0)
         if len(pairs) == 0:
             continue
         starts = np.flatnonzero(np.r_[True, pairs[1:, 0] != pairs[:-1, 0]])
-        ends = np.r_[starts[1:], len(pairs)]
-        for s0, s1 in zip(starts, ends):
-            k = pairs[s0, 0]
-            cand_keys = pairs[s0:s1, 1]
-            if len(cand_keys) < 2:
+        counts = np.diff(np.r_[starts, len(pairs)])
+        # Two features, not an edge's line with its own end: solve all at once.
+        two = starts[counts == 2]
+        fa, fb = pairs[two, 1], pairs[two + 1, 1]
+        ok = ~((fa // 2 == fb // 2) & (fa % 2 != fb % 2))
+        two, fa, fb = two[ok], fa[ok], fb[ok]
+        k = pairs[two, 0]
+        sol = _solve_many(points[k], fa, fb, a, b, r, side)
+        good = np.isfinite(sol).all(axis=1) & (np.hypot(*(sol - points[k]).T) <= w + tiny)
+        fk = np.column_stack([fa, fb])
+        for j in range(2):
+            dd = _distance_to_feature(sol, a[fk[:, j] // 2], b[fk[:, j] // 2], fk[:, j] % 2)
+            good &= np.abs(dd - r) <= 1e-9 * r + tiny
+        xy[k[good]] = sol[good]
+        feats[k[good]] = fk[good]
+        exact[k[good]] = True
+        # Three or more features (or a failed pair): every pair, one point at a time.
+        for s0, c in zip(starts.tolist(), counts.tolist()):
+            kk = pairs[s0, 0]
+            if exact[kk] or c < 2:
                 continue
             best = None
-            for fa, fb in itertools.combinations(cand_keys, 2):
-                if fa // 2 == fb // 2 and fa % 2 != fb % 2:
-                    continue  # an edge's line and its own start vertex
-                for x in _solve_pair(points[k], fa, fb, a, b, r, side):
-                    dev = math.hypot(*(x - points[k]))
+            cand = pairs[s0:s0 + c, 1]
+            if c > 6:
+                # Many features at distance ~r (an arc of radius r shrunk to its centre): the six nearest
+                # to r decide.
+                dd = _distance_to_feature(np.repeat(points[kk][None, :], c, axis=0), a[cand // 2],
+                                          b[cand // 2], cand % 2)
+                cand = cand[np.argsort(np.abs(dd - r))[:6]]
+            for fa1, fb1 in itertools.combinations(cand, 2):
+                if fa1 // 2 == fb1 // 2 and fa1 % 2 != fb1 % 2:
+                    continue
+                for x in _solve_pair(points[kk], fa1, fb1, a, b, r, side):
+                    dev = math.hypot(*(x - points[kk]))
                     if dev > w + tiny:
                         continue
-                    fk = np.array([fa, fb])
-                    dd = _distance_to_feature(np.array([x, x]), a[fk // 2], b[fk // 2], fk % 2)
+                    f2 = np.array([fa1, fb1])
+                    dd = _distance_to_feature(np.array([x, x]), a[f2 // 2], b[f2 // 2], f2 % 2)
                     if np.abs(dd - r).max() > 1e-9 * r + tiny:
                         continue
                     if best is None or dev < best[0]:
-                        best = (dev, x, fa, fb)
+                        best = (dev, x, fa1, fb1)
             if best is not None:
-                xy[k] = best[1]
-                feats[k] = best[2], best[3]
-                exact[k] = True
+                xy[kk] = best[1]
+                feats[kk] = best[2], best[3]
+                exact[kk] = True
+    # A centre must keep distance r from every feature, not just its two.
+    if exact.any():
+        idx = np.flatnonzero(exact)
+        hit, _ = tree.query(shapely.points(xy[idx]), predicate="dwithin", distance=r * (1 - 1e-9) - tiny)
+        bad = idx[np.unique(hit)]
+        exact[bad] = False
+        xy[bad] = points[bad]
+        feats[bad] = -1
     return xy, feats, exact
 
 
@@ -301,36 +395,65 @@ def arc_centers(S, r: float, *, tolerance: float | None = None) -> ArcCenters:
     S = check_shape(S)
     tol = check_tolerance(tolerance, r)
     q = quad_segs_for(r, tol)
-    from .morphology import _grow, _orient, _shrink
+    from .morphology import _grow_raw, _orient, _shrink_raw
 
-    return _arc_centers(S, r, _orient(_shrink(S, r, q)), _orient(_grow(S, r, q)), q)
+    return _arc_centers(S, r, _orient(_shrink_raw(S, r, q)), _orient(_grow_raw(S, r, q)), q)
 
 
-def _snap_vertices(P, centers: ArcCenters, side: int):
-    """``P`` with each vertex that a centre of ``side`` was refined from moved onto that exact centre."""
-    pick = centers.side == side
-    lookup = {tuple(p): xy for p, xy in zip(centers.source[pick].tolist(), centers.xy[pick])}
-    if not lookup or P.is_empty:
+def _search_window(S, r: float, q: int) -> tuple[float, float]:
+    x0, y0, x1, y1 = S.bounds
+    scale = max(x1 - x0, y1 - y0, r)
+    sag = r * (1.0 - math.cos(math.pi / (4 * q)))
+    return 4.0 * sag + CENTER_SEARCH_R * r + ZERO_SCALE * scale, scale
+
+
+def snap_to_centers(P, S, r: float, q: int, side: int):
+    """``P`` (the shrink of S for side +1, its grow for −1) with its convex (reflex) vertices moved onto
+    the exact arc centres they approximate; vertices that cannot be refined stay where they are."""
+    if P.is_empty:
         return P
+    from .morphology import _orient
+
+    P = _orient(P)
+    pts = _corner_vertices(P, convex=side > 0)
+    if len(pts) == 0:
+        return P
+    a, b, nxt = boundary_edges(S)
+    tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
+    window, scale = _search_window(S, r, q)
+    xy, _, exact = _refine(pts, side, a, b, nxt, tree, r, window, scale)
+    return _move_vertices(P, pts[exact], xy[exact])
+
+
+def _move_vertices(P, src: np.ndarray, dst: np.ndarray):
+    """P with every vertex equal to a row of ``src`` moved to the matching row of ``dst``."""
+    if len(src) == 0:
+        return P
+    key = src[:, 0] + 1j * src[:, 1]
+    order = np.argsort(key)
+    key, dst = key[order], dst[order]
 
     def move(c):
+        k = c[:, 0] + 1j * c[:, 1]
+        j = np.clip(np.searchsorted(key, k), 0, len(key) - 1)
+        hit = key[j] == k
         out = c.copy()
-        for i, p in enumerate(c.tolist()):
-            hit = lookup.get(tuple(p))
-            if hit is not None:
-                out[i] = hit
+        out[hit] = dst[j[hit]]
         return out
 
     return shapely.transform(P, move)
 
 
+def _snap_vertices(P, centers: ArcCenters, side: int):
+    """``P`` with each vertex that a centre of ``side`` was refined from moved onto that exact centre."""
+    pick = (centers.side == side) & centers.exact
+    return _move_vertices(P, centers.source[pick], centers.xy[pick]) if not P.is_empty else P
+
+
 def _arc_centers(S, r, E, G, q) -> ArcCenters:
     a, b, nxt = boundary_edges(S)
     tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
-    x0, y0, x1, y1 = S.bounds
-    scale = max(x1 - x0, y1 - y0, r)
-    sag = r * (1.0 - math.cos(math.pi / (4 * q)))
-    window = 4.0 * sag + CENTER_SEARCH_R * r + ZERO_SCALE * scale
+    window, scale = _search_window(S, r, q)
     out_xy, out_side, out_feat, out_exact, out_src = [], [], [], [], []
     for side, P, convex in ((1, E, True), (-1, G, False)):
         pts = _corner_vertices(P, convex) if not P.is_empty else np.zeros((0, 2))

@@ -104,8 +104,8 @@ class _Context:
         # shrink or grow by their own inaccuracy (chords, and GEOS's placement of offset vertices).
         self.pen_center = 1e-9 * r
         self.pen = 2.0 * self.sag + PENETRATION_R * r
-        E = _m._orient(_m._shrink(S, r, self.q_exact))
-        G = _m._orient(_m._grow(S, r, self.q_exact))
+        E = _m._orient(_m._shrink_raw(S, r, self.q_exact))
+        G = _m._orient(_m._grow_raw(S, r, self.q_exact))
         self.centers: ArcCenters = _arc_centers(S, r, E, G, self.q_exact)
         self.E = _snap_vertices(E, self.centers, 1)
         self.G = _snap_vertices(G, self.centers, -1)
@@ -139,7 +139,7 @@ class _Context:
     @property
     def R(self):
         if self._R is None:
-            R = _m._polygonal(shapely.intersection(_m._grow(self.E, self.r, self.q), self.S)) \
+            R = _m._polygonal(shapely.intersection(_m._grow_raw(self.E, self.r, self.q), self.S)) \
                 if not self.E.is_empty else Polygon()
             self._R = _m._orient(_m._nudge(R, self.S, into=True))
         return self._R
@@ -147,7 +147,7 @@ class _Context:
     @property
     def F(self):
         if self._F is None:
-            F = _m._polygonal(shapely.union(_m._shrink(self.G, self.r, self.q), self.S))
+            F = _m._polygonal(shapely.union(_m._shrink_raw(self.G, self.r, self.q), self.S))
             self._F = _m._orient(_m._nudge(F, self.S, into=False))
         return self._F
 
@@ -816,9 +816,9 @@ class Tightening:
             ctx, _ = info
             frame = self._cache["_frame"]
             q = quad_segs_for(ctx.r, 0.25 * tol / frame.scale)
-            R = _m._nudge(_m._polygonal(shapely.intersection(_m._grow(ctx.E, ctx.r, q), ctx.S)), ctx.S, True) \
+            R = _m._nudge(_m._polygonal(shapely.intersection(_m._grow_raw(ctx.E, ctx.r, q), ctx.S)), ctx.S, True) \
                 if not ctx.E.is_empty else Polygon()
-            F = _m._nudge(_m._polygonal(shapely.union(_m._shrink(ctx.G, ctx.r, q), ctx.S)), ctx.S, False)
+            F = _m._nudge(_m._polygonal(shapely.union(_m._shrink_raw(ctx.G, ctx.r, q), ctx.S)), ctx.S, False)
             T_loc = frame.to_local(T) if not T.is_empty else T
             slack = (1.25 * tol) / frame.scale + ctx.pen
             tiny = 1e-9

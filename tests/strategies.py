@@ -1,0 +1,79 @@
+"""Hypothesis strategies: random polygons of the kinds the engine must handle."""
+
+import math
+
+import numpy as np
+import shapely
+from hypothesis import assume
+from hypothesis import strategies as st
+from shapely.geometry import Point, Polygon, box
+
+
+@st.composite
+def stars(draw, min_k=5, max_k=24):
+    """Star-shaped simple polygons (sorted angles, positive radii) around the origin, size ~20."""
+    k = draw(st.integers(min_k, max_k))
+    angles = draw(st.lists(st.floats(0, 2 * math.pi, exclude_max=True), min_size=k, max_size=k,
+                           unique_by=lambda a: round(a, 3)))
+    radii = draw(st.lists(st.floats(2.0, 10.0), min_size=len(angles), max_size=len(angles)))
+    th = np.sort(np.array(angles))
+    rad = np.array(radii)
+    P = Polygon(np.column_stack([rad * np.cos(th), rad * np.sin(th)]))
+    assume(P.is_valid and P.area > 1.0)
+    return P
+
+
+@st.composite
+def box_unions(draw, max_n=5):
+    """Unions of axis-aligned boxes (several components, notches, gaps, thin parts)."""
+    n = draw(st.integers(1, max_n))
+    boxes = []
+    for _ in range(n):
+        x, y = draw(st.floats(0, 10)), draw(st.floats(0, 10))
+        w, h = draw(st.floats(0.3, 6)), draw(st.floats(0.3, 6))
+        boxes.append(box(x, y, x + w, y + h))
+    return shapely.union_all(boxes)
+
+
+@st.composite
+def disk_unions(draw, max_n=5):
+    """Unions of polygonal disks (coarse and fine), often overlapping."""
+    n = draw(st.integers(1, max_n))
+    parts = [Point(draw(st.floats(0, 10)), draw(st.floats(0, 10))).buffer(draw(st.floats(0.3, 3.5)),
+                                                                           quad_segs=draw(st.integers(2, 16)))
+             for _ in range(n)]
+    return shapely.union_all(parts)
+
+
+@st.composite
+def holed(draw):
+    """A square with polygonal holes (some cut through its boundary)."""
+    n = draw(st.integers(1, 4))
+    holes = [Point(draw(st.floats(0.5, 9.5)), draw(st.floats(0.5, 9.5))).buffer(draw(st.floats(0.2, 2.5)),
+                                                                               quad_segs=draw(st.integers(1, 6)))
+             for _ in range(n)]
+    return box(0, 0, 10, 10).difference(shapely.union_all(holes))
+
+
+def with_redundant_vertices(P):
+    """The same shape with a collinear vertex inserted in every edge and every vertex repeated once."""
+    def ring(c):
+        c = np.asarray(c)[:-1]
+        nxt = np.roll(c, -1, axis=0)
+        out = np.empty((3 * len(c), 2))
+        out[0::3], out[1::3], out[2::3] = c, c, 0.5 * (c + nxt)
+        return np.vstack([out, out[:1]])
+    polys = []
+    for p in shapely.get_parts(P):
+        polys.append(Polygon(ring(p.exterior.coords), [ring(h.coords) for h in p.interiors]))
+    return polys[0] if len(polys) == 1 else shapely.MultiPolygon(polys)
+
+
+shapes = st.one_of(stars(), box_unions(), disk_unions(), holed())
+
+
+def radii_for(S):
+    """Radii from a twentieth to a quarter of the shape's size."""
+    x0, y0, x1, y1 = S.bounds
+    size = max(x1 - x0, y1 - y0)
+    return st.floats(size / 40, size / 4)
