@@ -80,4 +80,6 @@ def check_shape(S, name: str = "S", *, allow_empty: bool = False) -> Polygon | M
         S = fixed
     if S.area <= 0:
         raise InvalidGeometryError(f"{name} has zero area")
+    # Repeated consecutive vertices carry no geometry; dropping them spares every edge loop a zero length.
+    S = shapely.remove_repeated_points(S, 0.0)
     return shapely.orient_polygons(S, exterior_cw=False)

@@ -1,0 +1,298 @@
+import math
+import warnings
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from shapely.geometry import MultiPolygon, Point, Polygon, box
+
+import vectortighten as vt
+from vectortighten import Loop
+from vectortighten.engine import Init, _tighten
+from vectortighten.errors import GeometryTypeError, InvalidGeometryError, InvalidRadiusError, RepairWarning
+
+from .strategies import box_unions, disk_unions, holed, radii_for, shapes, stars, with_redundant_vertices
+
+L_SHAPE = Polygon([(0, 0), (10, 0), (10, 3), (3, 3), (3, 10), (0, 10)])
+INITS = ["core", "input", "mason"]
+
+
+def corner_formula(P, r):
+    """Perimeter and area of the tightening of a polygon whose corners are far apart (DESIGN §3).
+
+    P must be oriented (exterior counter-clockwise, holes clockwise): P lies on the left of every ring, so
+    a left turn is a convex corner (area removed) and a right turn a reflex one (area added).
+    """
+    dp = da = 0.0
+    for ring in [P.exterior, *P.interiors]:
+        pts = np.asarray(ring.coords)[:-1]
+        for i in range(len(pts)):
+            u = pts[i] - pts[i - 1]
+            v = pts[(i + 1) % len(pts)] - pts[i]
+            turn = math.atan2(u[0] * v[1] - u[1] * v[0], u @ v)
+            th = abs(turn)
+            dp += 2 * r * math.tan(th / 2) - r * th
+            da += (-1 if turn > 0 else 1) * r * r * (math.tan(th / 2) - th / 2)
+    return P.length - dp, P.area + da
+
+
+def sampled_min_circumradius(geom):
+    best = math.inf
+    for ring in shapely.get_rings(shapely.get_parts(geom)):
+        c = shapely.get_coordinates(ring)[:-1]
+        a, b, d = np.roll(c, 1, 0), c, np.roll(c, -1, 0)
+        ab, bd, ad = (np.hypot(*(y - x).T) for x, y in ((a, b), (b, d), (a, d)))
+        cross = np.abs((b - a)[:, 0] * (d - a)[:, 1] - (b - a)[:, 1] * (d - a)[:, 0])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            R = np.where(cross > 1e-14 * ab.max() ** 2, ab * bd * ad / (2 * cross), np.inf)
+        best = min(best, float(R.min()))
+    return best
+
+
+def check_invariants(S, T, r):
+    """DESIGN §7 (a)-(d), checked against an independent reference and by the result itself."""
+    assert T.verify() == []
+    geom = T.geometry
+    assert geom.is_valid
+    tol = T.tolerance
+    R = vt.core(S, r, tolerance=tol / 4)
+    F = vt.fillet(S, r, tolerance=tol / 4)
+    x0, y0, x1, y1 = S.bounds
+    tiny = 1e-9 * max(x1 - x0, y1 - y0) ** 2
+    assert R.difference(geom.buffer(3 * tol)).area <= tiny
+    assert geom.difference(F.buffer(3 * tol)).area <= tiny
+    assert T.min_radius_of_curvature >= r * (1 - 1e-9)
+    if not geom.is_empty:
+        assert sampled_min_circumradius(geom) >= r * (1 - 1e-6)
+        # Exact and sampled measures agree within the sampling tolerance.
+        assert abs(T.area - geom.area) <= T.perimeter * tol * 1.01
+        assert 0 <= T.perimeter - geom.length <= T.perimeter * 1e-4
+    for loop in T.loops:
+        assert loop.is_g1(1e-7)
+        assert all(abs(a.radius - r) <= 1e-9 * r for a in loop.arcs)
+
+
+# -- exact values ------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("init", INITS)
+@pytest.mark.parametrize("S,r", [
+    (box(0, 0, 4, 4), 1.0),
+    (box(0, 0, 10, 3), 0.5),
+    (L_SHAPE, 1.0),
+    (Point(0, 0).buffer(10, quad_segs=3), 2.0),                       # regular 12-gon
+    (Polygon([(0, 0), (10, 0), (5, 9)]), 1.0),                         # triangle
+    (box(0, 0, 20, 20).difference(box(5, 5, 15, 15)), 1.0),            # frame: reflex corners in the hole
+])
+def test_corner_formula(S, r, init):
+    T = vt.tighten(S, r, init=init)
+    per, area = corner_formula(shapely.orient_polygons(S), r)
+    assert T.perimeter == pytest.approx(per, rel=1e-9)
+    assert T.area == pytest.approx(area, rel=1e-9)
+    assert T.n_components == 1 and T.n_holes == len(S.interiors)
+    assert T.min_radius_of_curvature == pytest.approx(r, rel=1e-12)
+    check_invariants(S, T, r)
+
+
+def test_square_core_area_and_perimeter_exact():
+    a, r = 7.0, 1.25
+    T = vt.tighten(box(0, 0, a, a), r)
+    assert T.area == pytest.approx(a * a - (4 - math.pi) * r * r, rel=1e-12)
+    assert T.perimeter == pytest.approx(4 * a - 8 * r + 2 * math.pi * r, rel=1e-12)
+
+
+@pytest.mark.parametrize("init", INITS)
+def test_small_hole_vanishes(init):
+    S = box(0, 0, 6, 6).difference(Point(3, 3).buffer(0.5, quad_segs=16))
+    T = vt.tighten(S, 1.0, init=init)
+    assert T.n_components == 1 and T.n_holes == 0
+    assert T.perimeter == pytest.approx(16 + 2 * math.pi, rel=1e-9)
+
+
+@pytest.mark.parametrize("init", INITS)
+def test_big_hole_keeps_its_shape(init):
+    S = box(0, 0, 20, 20).difference(Point(10, 10).buffer(5, quad_segs=64))
+    T = vt.tighten(S, 1.0, init=init)
+    assert T.n_holes == 1
+    check_invariants(S, T, 1.0)
+
+
+@pytest.mark.parametrize("init", INITS)
+def test_narrow_slot_is_closed_to_the_anticore_disk_that_dips_into_it(init):
+    # A slot 0.4 wide cut down from the top: filled, except where the anticore disk resting on the slot's
+    # two top corners dips into its mouth. Hand-derived disk chain: four corner disks, the two disks at
+    # the slot's top corners, and that anticore disk between them.
+    S = box(0, 0, 6, 6).difference(box(2.8, 3, 3.2, 6))
+    r = 1.0
+    T = vt.tighten(S, r, init=init)
+    dip = (3.0, 6.0 + math.sqrt(r * r - 0.2 ** 2))
+    want = Loop.from_disks([(1, 1), (5, 1), (5, 5), (4.2, 5), dip, (1.8, 5), (1, 5)], [1, 1, 1, 1, -1, 1, 1], r)
+    assert T.n_components == 1 and T.n_holes == 0
+    assert T.perimeter == pytest.approx(want.length, rel=1e-9)
+    assert T.area == pytest.approx(want.area, rel=1e-9)
+
+
+@pytest.mark.parametrize("init", INITS)
+@pytest.mark.parametrize("S", [box(0, 0, 10, 1.5),
+                               Point(0, 0).buffer(5, quad_segs=32).difference(Point(0, 0).buffer(4.2, quad_segs=32)),
+                               Polygon([(0, 0), (10, 0), (10, 1), (1, 1), (1, 10), (0, 10)])])
+def test_thin_parts_vanish(S, init):
+    T = vt.tighten(S, 1.0, init=init)
+    assert T.is_empty and T.geometry.is_empty and T.perimeter == 0
+    assert T.verify() == []
+
+
+@pytest.mark.parametrize("init", INITS)
+def test_disk_smaller_than_r_vanishes_and_larger_stays(init):
+    assert vt.tighten(Point(0, 0).buffer(0.9, quad_segs=32), 1.0, init=init).is_empty
+    T = vt.tighten(Point(0, 0).buffer(3, quad_segs=32), 1.0, init=init)
+    assert T.n_components == 1 and T.area == pytest.approx(Point(0, 0).buffer(3, quad_segs=32).area, rel=1e-4)
+
+
+@pytest.mark.parametrize("init", ["core", "input"])
+def test_two_squares_a_gap_apart_stay_two_rounded_squares(init):
+    S = box(0, 0, 4, 4).union(box(4.5, 0, 8.5, 4))
+    T = vt.tighten(S, 1.0, init=init)
+    assert T.n_components == 2
+    assert T.perimeter == pytest.approx(2 * (8 + 2 * math.pi), rel=1e-12)
+
+
+BAR = box(0, 0, 4, 4).union(box(4, 1.6, 8, 2.4)).union(box(8, 0, 12, 4))
+
+
+def test_bar_between_squares_input_keeps_it_with_fillets():
+    # Hand-derived: the tangents along the bar are 2 long, the crossing tangents at its ends sqrt(2.08² − 4)...
+    # with centres (3,1) and (5,0.6): d² = 4.16, length 0.4, and each junction turns by atan(5) − atan(0.2).
+    T = vt.tighten(BAR, 1.0, init="input")
+    want = 17.6 + 2 * math.pi + 8 * (math.atan(5) - math.atan(0.2))
+    assert T.n_components == 1
+    assert T.perimeter == pytest.approx(want, rel=1e-12)
+
+
+@pytest.mark.parametrize("init", ["core", "mason"])
+def test_bar_between_squares_core_removes_it_leaving_a_bump(init):
+    # Each square keeps the disk that leans into the bar's mouth, touching its two corners:
+    # centre (3 + e, 2) with (1 − e)² + 0.4² = 1.
+    T = vt.tighten(BAR, 1.0, init=init)
+    e = 1 - math.sqrt(1 - 0.16)
+    left = Loop.from_disks([(1, 1), (3, 1), (3 + e, 2), (3, 3), (1, 3)], [1] * 5, 1.0)
+    assert T.n_components == 2
+    assert T.perimeter == pytest.approx(2 * left.length, rel=1e-12)
+    assert T.area == pytest.approx(2 * left.area, rel=1e-12)
+
+
+def test_empty_result_is_not_an_error():
+    T = vt.tighten(box(0, 0, 1, 1), 5.0)
+    assert T.is_empty and T.loops == [] and T.n_components == 0 and T.min_radius_of_curvature == math.inf
+
+
+# -- invariants over random shapes --------------------------------------------------------------------------
+SETTINGS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+@SETTINGS
+@given(shapes.flatmap(lambda S: st.tuples(st.just(S), radii_for(S), st.sampled_from(INITS))))
+def test_invariants_on_random_shapes(case):
+    S, r, init = case
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RepairWarning)
+        S = vt._validation.check_shape(S)
+    T = vt.tighten(S, r, init=init)
+    check_invariants(S, T, r)
+
+
+@SETTINGS
+@given(stars(), st.sampled_from([1e-6, 1.0, 1e6]), st.sampled_from([0.0, 1e6]), st.sampled_from(["core", "input"]))
+def test_scale_and_offset_invariance(S, scale, offset, init):
+    r = 0.8
+    T0 = vt.tighten(S, r, init=init)
+    moved = shapely.affinity.affine_transform(S, [scale, 0, 0, scale, offset * scale, -offset * scale])
+    T1 = vt.tighten(moved, r * scale, init=init)
+    assert T1.n_components == T0.n_components and T1.n_holes == T0.n_holes
+    assert T1.perimeter == pytest.approx(T0.perimeter * scale, rel=1e-7)
+    assert T1.area == pytest.approx(T0.area * scale * scale, rel=1e-7)
+
+
+@SETTINGS
+@given(st.one_of(stars(), box_unions(max_n=3)), st.sampled_from(["core", "input"]))
+def test_redundant_vertices_change_nothing(S, init):
+    r = 0.7
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RepairWarning)
+        T0 = vt.tighten(S, r, init=init)
+        T1 = vt.tighten(with_redundant_vertices(S), r, init=init)
+    assert T1.n_components == T0.n_components and T1.n_holes == T0.n_holes
+    assert T1.perimeter == pytest.approx(T0.perimeter, rel=1e-9, abs=1e-9)
+
+
+@SETTINGS
+@given(st.one_of(stars(), disk_unions(max_n=3), holed()))
+def test_input_mode_is_self_dual(S):
+    r = 0.6
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RepairWarning)
+        S = vt._validation.check_shape(S)
+    x0, y0, x1, y1 = S.bounds
+    B = box(x0 - 20, y0 - 20, x1 + 20, y1 + 20)
+    T = vt.tighten(S, r, init="input").geometry
+    TC = vt.tighten(B.difference(S), r, init="input").geometry
+    near = box(x0 - 2, y0 - 2, x1 + 2, y1 + 2)
+    d = B.difference(TC).intersection(near).symmetric_difference(T.intersection(near)).area
+    assert d <= 1e-5 * S.length * r
+
+
+@SETTINGS
+@given(st.one_of(stars(), box_unions(max_n=4), disk_unions(max_n=4)),
+       st.floats(0.2, 2.0), st.sampled_from(INITS))
+def test_fast_path_agrees_with_the_general_engine(S, r, init):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RepairWarning)
+        S = vt._validation.check_shape(S)
+    A = _tighten(S, r, Init(init), 1e-5 * r, allow_fast=True)
+    B = _tighten(S, r, Init(init), 1e-5 * r, allow_fast=False)
+    assert (A.n_components, A.n_holes) == (B.n_components, B.n_holes)
+    assert A.perimeter == pytest.approx(B.perimeter, rel=1e-9, abs=1e-12)
+    assert A.area == pytest.approx(B.area, rel=1e-9, abs=1e-12)
+
+
+# -- bad input ------------------------------------------------------------------------------------------------
+def test_bad_inputs():
+    with pytest.raises(GeometryTypeError):
+        vt.tighten(Point(0, 0), 1.0)
+    with pytest.raises(InvalidGeometryError, match="empty"):
+        vt.tighten(Polygon(), 1.0)
+    for bad in (0, -1, float("nan"), float("inf"), None, "2"):
+        with pytest.raises(InvalidRadiusError):
+            vt.tighten(box(0, 0, 1, 1), bad)
+    with pytest.raises(ValueError, match="init"):
+        vt.tighten(box(0, 0, 1, 1), 0.1, init="outline")
+    with pytest.raises(InvalidRadiusError, match="tolerance"):
+        vt.tighten(box(0, 0, 1, 1), 0.1, tolerance=0.5)
+
+
+def test_invalid_polygon_repaired_with_warning():
+    bowtie = Polygon([(0, 0), (4, 4), (4, 0), (0, 4)])
+    with pytest.warns(RepairWarning):
+        T = vt.tighten(bowtie, 0.3)
+    assert T.n_components == 2 and T.verify() == []
+
+
+def test_input_not_modified_and_result_holds_it():
+    S = MultiPolygon([box(0, 0, 4, 4), box(6, 0, 9, 3)])
+    wkb = S.wkb
+    T = vt.tighten(S, 0.5)
+    assert S.wkb == wkb and T.shape.equals(S)
+
+
+def test_init_accepts_enum_and_strings():
+    a = vt.tighten(L_SHAPE, 1.0, init=Init.INPUT)
+    b = vt.tighten(L_SHAPE, 1.0, init="input")
+    assert a.perimeter == b.perimeter and a.init == "input"
+
+
+def test_morphology_attributes_and_svg():
+    T = vt.tighten(L_SHAPE, 1.0)
+    assert T.core.area < L_SHAPE.area < T.fillet.area
+    assert T.mortar.area == pytest.approx(T.fillet.area - T.core.area, rel=1e-9)
+    path = T.svg_path(8)
+    assert path.count(" A ") == 6 and path.startswith("M")
