@@ -245,6 +245,9 @@ def test_input_mode_is_self_dual(S):
 @given(st.one_of(stars(), box_unions(max_n=4), disk_unions(max_n=4)),
        st.floats(0.2, 2.0), st.sampled_from(INITS))
 def test_fast_path_agrees_with_the_general_engine(S, r, init):
+    # Shrunk examples favour integer coordinates and r = 0.5, i.e. parts exactly 2r wide, whose shrink has
+    # zero width (GEOS drops it); keep r off such exact degeneracies.
+    r *= 1 + 1e-6
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RepairWarning)
         S = vt._validation.check_shape(S)

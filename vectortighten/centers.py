@@ -312,7 +312,7 @@ def _refine(points, side, a, b, nxt, tree, r, window, scale):
         fk = np.column_stack([fa, fb])
         for j in range(2):
             dd = _distance_to_feature(sol, a[fk[:, j] // 2], b[fk[:, j] // 2], fk[:, j] % 2)
-            good &= np.abs(dd - r) <= 1e-9 * r + tiny
+            good &= np.abs(dd - r) <= 10 * tiny
         xy[k[good]] = sol[good]
         feats[k[good]] = fk[good]
         exact[k[good]] = True
@@ -338,7 +338,7 @@ def _refine(points, side, a, b, nxt, tree, r, window, scale):
                         continue
                     f2 = np.array([fa1, fb1])
                     dd = _distance_to_feature(np.array([x, x]), a[f2 // 2], b[f2 // 2], f2 % 2)
-                    if np.abs(dd - r).max() > 1e-9 * r + tiny:
+                    if np.abs(dd - r).max() > 10 * tiny:
                         continue
                     if best is None or dev < best[0]:
                         best = (dev, x, fa1, fb1)

@@ -23,10 +23,10 @@ _THICKEN = 1e-7  # of the outer polygon's size: room for the curve where the two
 def relative_convex_hull(inner, outer) -> Polygon | MultiPolygon:
     """The relative convex hull of ``inner`` in ``outer``: bounded by the shortest closed curves around it.
 
-    Each component of ``inner`` is wrapped by the shortest closed curve that stays in ``outer`` and is
-    homotopic there to the component's outer boundary (holes of ``outer`` are obstacles the curve cannot
-    cross). Curves that meet are merged and wrapped again, so the result is the smallest set containing
-    ``inner`` whose boundary is locally shortest in ``outer``.
+    Inside each part of ``outer`` that has no holes, one curve wraps all the components of ``inner`` it
+    holds (Sklansky's minimum-perimeter polygon). Where ``outer`` has holes (obstacles the curve cannot
+    cross) the way around them is not unique, so each component of ``inner`` is wrapped by the shortest
+    curve homotopic to its own outer boundary, and curves that meet are merged and wrapped again.
 
     Parameters
     ----------
@@ -106,9 +106,17 @@ def relative_convex_hull(inner, outer) -> Polygon | MultiPolygon:
         return shapely.make_valid(Polygon(pts))
 
     comps = list(shapely.get_parts(inner))
-    rings = [shapely.get_coordinates(p.exterior) for p in comps]
+    rings = []
+    for part in shapely.get_parts(outer):
+        held = [c for c in comps if part.covers(c.representative_point())]
+        if not held:
+            continue
+        if len(part.interiors) == 0 and len(held) > 1:
+            rings.append(shapely.get_coordinates(part.exterior))       # one curve around all of them
+        else:
+            rings += [shapely.get_coordinates(c.exterior) for c in held]
     hull = None
-    for _ in range(len(comps) + 1):
+    for _ in range(len(rings) + 1):
         wrapped = [w for w in (wrap(ring) for ring in rings) if w is not None]
         pieces = shapely.union_all([*wrapped, inner])
         pieces = shapely.union_all([g for g in shapely.get_parts(pieces) if g.geom_type == "Polygon"])

@@ -1,0 +1,77 @@
+import math
+import warnings
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from shapely.geometry import Point, Polygon, box
+
+import vectortighten as vt
+from vectortighten.errors import RepairWarning
+
+from .strategies import radii_for, shapes
+
+
+def test_box_centres():
+    C = vt.arc_centers(box(0, 0, 4, 3), 1.0)
+    inner = sorted(map(tuple, C.xy[C.side == 1].round(12).tolist()))
+    assert inner == [(1.0, 1.0), (1.0, 2.0), (3.0, 1.0), (3.0, 2.0)]
+    assert (C.side == -1).sum() == 0          # a convex polygon has no concave fillet arcs
+    assert C.exact.all()
+
+
+def test_l_shape_centres_and_features():
+    L = Polygon([(0, 0), (10, 0), (10, 3), (3, 3), (3, 10), (0, 10)])
+    C = vt.arc_centers(L, 1.0)
+    outer = C.xy[C.side == -1]
+    assert outer.tolist() == [[4.0, 4.0]]     # the fillet arc at the reflex corner (3, 3)
+    k = int(np.flatnonzero(C.side == -1)[0])
+    feats = [C.feature_geometry(f) for f in C.features[k]]
+    assert all(g.geom_type == "LineString" for g in feats)
+    assert all(g.distance(Point(4, 4)) == pytest.approx(1.0, abs=1e-15) for g in feats)
+
+
+def test_line_point_and_point_point_centres():
+    # An L whose arms are narrower than 2r: the arc of the shrink around the reflex corner (2.8, 2.8) is
+    # cut by the offsets of the outer edges, at points a distance r from an edge and from that vertex.
+    S = Polygon([(0, 0), (10, 0), (10, 2.8), (2.8, 2.8), (2.8, 10), (0, 10)])
+    C = vt.arc_centers(S, 1.5)
+    kinds = {tuple(sorted(int(f) % 2 for f in fs)) for fs in C.features[C.exact]}
+    assert (0, 1) in kinds
+    lp = C.xy[[tuple(sorted(int(f) % 2 for f in fs)) == (0, 1) for fs in C.features]]
+    assert sorted(map(tuple, lp.round(12).tolist())) == [(1.5, round(2.8 - (1.5 ** 2 - 1.3 ** 2) ** 0.5, 12)),
+                                                        (round(2.8 - (1.5 ** 2 - 1.3 ** 2) ** 0.5, 12), 1.5)]
+    # Two reflex vertices facing each other across a gap give a point–point centre of the fillet.
+    two = box(0, 0, 4, 4).union(box(4.6, 0, 8.6, 4))
+    C2 = vt.arc_centers(two, 1.0)
+    pp = [C2.xy[i] for i in range(len(C2)) if C2.side[i] == -1 and set(C2.features[i] % 2) == {1}]
+    assert pp and all(abs(p[0] - 4.3) < 1e-12 for p in pp)
+
+
+@settings(max_examples=40, deadline=None)
+@given(shapes.flatmap(lambda S: st.tuples(st.just(S), radii_for(S))))
+def test_centres_are_exact_and_valid(case):
+    S, r = case
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RepairWarning)
+        S = vt._validation.check_shape(S)
+    C = vt.arc_centers(S, r)
+    if not C.exact.any():
+        return
+    x0, y0, x1, y1 = S.bounds
+    size = max(x1 - x0, y1 - y0)
+    d = C.feature_distances()[C.exact]
+    assert np.abs(d - r).max() <= 1e-12 * size
+    # A centre keeps distance r from the whole boundary, inside S (core) or outside it (fillet).
+    pts = shapely.points(C.xy[C.exact])
+    dist = shapely.distance(S.boundary, pts)
+    assert (dist >= r * (1 - 1e-9)).all()
+    inside = shapely.contains(S, pts)
+    assert (inside == (C.side[C.exact] == 1)).all()
+
+
+def test_bad_input():
+    with pytest.raises(vt.InvalidRadiusError):
+        vt.arc_centers(box(0, 0, 1, 1), 0)
