@@ -70,14 +70,19 @@ def _orient(geom: Polygonal) -> Polygonal:
 _GHOST_R = 1e-6
 
 
-def _too_close(points: np.ndarray, target, distance: float) -> np.ndarray:
-    if len(points) == 0:
-        return np.zeros(0, dtype=bool)
-    tree = shapely.STRtree(shapely.get_parts(target))
-    hit = np.zeros(len(points), dtype=bool)
-    idx, _ = tree.query(shapely.points(points), predicate="dwithin", distance=distance)
-    hit[idx] = True
-    return hit
+_GHOST_SAMPLES = 16
+
+
+def _all_too_close(ring_coords: np.ndarray, boundary, distance: float) -> bool:
+    """Whether every vertex of a ring is closer than ``distance`` to ``boundary`` (prepared).
+
+    A genuine piece of a shrink (or hole of a grow) has every vertex at distance ≥ r from the boundary, a
+    ghost has none; a sample of evenly spaced vertices tells them apart.
+    """
+    c = ring_coords[:-1] if len(ring_coords) > 1 else ring_coords
+    if len(c) > _GHOST_SAMPLES:
+        c = c[np.linspace(0, len(c) - 1, _GHOST_SAMPLES).astype(int)]
+    return bool(shapely.dwithin(boundary, shapely.points(c), distance).all())
 
 
 def _grow(S: Polygonal, r: float, q: int) -> Polygonal:
@@ -102,14 +107,14 @@ def _grow_raw(S: Polygonal, r: float, q: int) -> Polygonal:
     G = _polygonal(S.buffer(r, quad_segs=q))
     if G.is_empty or not any(len(p.interiors) for p in shapely.get_parts(G)):
         return G
-    edges = _boundary_segments(S)
+    boundary = S.boundary
+    shapely.prepare(boundary)
     parts = []
     changed = False
     for p in shapely.get_parts(G):
         keep = []
         for hole in p.interiors:
-            c = shapely.get_coordinates(hole)
-            if _too_close(c, edges, r * (1 - _GHOST_R)).all():
+            if _all_too_close(shapely.get_coordinates(hole), S, r * (1 - _GHOST_R)):
                 changed = True
             else:
                 keep.append(hole)
@@ -124,9 +129,10 @@ def _shrink_raw(S: Polygonal, r: float, q: int) -> Polygonal:
     if E.is_empty:
         return E
     parts = list(shapely.get_parts(E))
-    edges = _boundary_segments(S)
-    keep = [p for p in parts if not _too_close(shapely.get_coordinates(p.exterior), edges,
-                                               r * (1 - _GHOST_R)).all()]
+    boundary = S.boundary
+    shapely.prepare(boundary)
+    keep = [p for p in parts if not _all_too_close(shapely.get_coordinates(p.exterior), boundary,
+                                                   r * (1 - _GHOST_R))]
     if len(keep) == len(parts):
         return E
     return _polygonal(shapely.union_all(keep)) if keep else Polygon()
@@ -168,9 +174,10 @@ def _nudge(geom: Polygonal, S: Polygonal, into: bool) -> Polygonal:
     d = b - a
     normal = np.column_stack([-d[:, 1], d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
     tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
-    s_vertices = {tuple(p) for p in a}
     coords = shapely.get_coordinates(geom)
-    own = np.array([tuple(p) in s_vertices for p in coords], dtype=bool)
+    keys = np.sort(a[:, 0] + 1j * a[:, 1])
+    k = coords[:, 0] + 1j * coords[:, 1]
+    own = keys[np.clip(np.searchsorted(keys, k), 0, len(keys) - 1)] == k
     eps = 8.0 * np.finfo(float).eps * max(1.0, float(np.abs(coords).max()))
     for _ in range(8):
         x, y = coords[:, 0], coords[:, 1]
@@ -183,8 +190,7 @@ def _nudge(geom: Polygonal, S: Polygonal, into: bool) -> Polygonal:
         nearest = tree.query_nearest(shapely.points(coords[bad]), all_matches=False)[1]
         coords[bad] += (eps if into else -eps) * normal[nearest]
         eps *= 4.0
-        it = iter(coords)
-        geom = shapely.transform(geom, lambda c, it=it: np.array([next(it) for _ in range(len(c))]))
+        geom = shapely.set_coordinates(shapely.from_wkb(shapely.to_wkb(geom)), coords.copy())
         if S.covers(geom) if into else geom.covers(S):
             break
     if not geom.is_valid:
