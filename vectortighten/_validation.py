@@ -80,6 +80,10 @@ def check_shape(S, name: str = "S", *, allow_empty: bool = False) -> Polygon | M
         S = fixed
     if S.area <= 0:
         raise InvalidGeometryError(f"{name} has zero area")
-    # Repeated consecutive vertices carry no geometry; dropping them spares every edge loop a zero length.
-    S = shapely.remove_repeated_points(S, 0.0)
+    # Consecutive vertices closer than 1e-12 of the shape's size carry no geometry (only rounding): drop
+    # them, sparing every edge loop a zero or subnormal length.
+    x0, y0, x1, y1 = S.bounds
+    merged = shapely.remove_repeated_points(S, 1e-12 * max(x1 - x0, y1 - y0))
+    if merged.is_valid and not merged.is_empty:
+        S = merged
     return shapely.orient_polygons(S, exterior_cw=False)

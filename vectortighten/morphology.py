@@ -195,6 +195,15 @@ def _nudge(geom: Polygonal, S: Polygonal, into: bool) -> Polygonal:
             break
     if not geom.is_valid:
         geom = _polygonal(shapely.make_valid(geom))
+    if not (S.covers(geom) if into else geom.covers(S)):
+        # The overlay merged a vertex of S onto another boundary (S nearly touching itself): take the
+        # offending sliver out of (add it to) the result, a hair thickened.
+        x0, y0, x1, y1 = S.bounds
+        hair = 1e-12 * max(x1 - x0, y1 - y0)
+        if into:
+            geom = _polygonal(shapely.difference(geom, shapely.difference(geom, S).buffer(hair)))
+        else:
+            geom = _polygonal(shapely.union(geom, shapely.difference(S, geom).buffer(hair)))
     return geom
 
 
