@@ -577,43 +577,74 @@ def _tighten_ring(ctx: _Context, ring: np.ndarray) -> _DiskLoop | None:
 # ---------------------------------------------------------------------------------------------------------
 # Surgery
 # ---------------------------------------------------------------------------------------------------------
-def _contacts(ctx: _Context, loops: list[_DiskLoop]):
-    """Touching places among the loops: list of (a, piece_a, x, b, piece_b, y)."""
-    touch = TOUCH_SCALE  # the local frame has unit size
-    r = ctx.r
-    geoms, owner, index, pos = [], [], [], []
-    totals = []
+def _piece_arrays(loops: list[_DiskLoop]):
+    """All pieces of all loops as shapely lines (arcs sampled finely) with owner, index and arclength span."""
+    lines, owner, index, start, stop, totals = [], [], [], [], [], []
     for li, L in enumerate(loops):
-        pcs = L.pieces()
-        acc = 0.0
-        for pi, (kind, g, ln) in enumerate(pcs):
-            start = acc
-            acc += ln
-            if ln <= 0 and kind == "seg":
-                continue
-            if kind == "seg":
-                geom = shapely.linestrings([g[0], g[1]])
-            else:
-                c, rr, a0, sw = g
-                m = max(2, math.ceil(abs(sw) / (math.pi / 32)) + 1)
-                th = a0 + sw * np.linspace(0, 1, m)
-                geom = shapely.linestrings(np.column_stack([c[0] + rr * np.cos(th), c[1] + rr * np.sin(th)]))
-            geoms.append(geom)
-            owner.append(li)
-            index.append(pi)
-            pos.append((start, acc))
-        totals.append(acc)
-    if not geoms:
+        n = L.n
+        arc_len = L.r * np.abs(L.sweep)
+        seg_len = L.length if n > 1 else np.zeros(1)
+        lens = np.empty(2 * n)
+        lens[0::2], lens[1::2] = arc_len, seg_len
+        cum = np.concatenate([[0.0], np.cumsum(lens)])
+        totals.append(cum[-1])
+        a0 = L.arc_start() if n > 1 else np.zeros(1)
+        arcs = np.flatnonzero(arc_len > 0)
+        if len(arcs):
+            m = np.maximum(2, np.ceil(np.abs(L.sweep[arcs]) / (math.pi / 32)).astype(np.int64) + 1)
+            ow = np.repeat(np.arange(len(arcs)), m)
+            first = np.repeat(np.cumsum(m) - m, m)
+            f = (np.arange(len(ow)) - first) / np.repeat(m - 1, m)
+            th = a0[arcs][ow] + L.sweep[arcs][ow] * f
+            pts = L.c[arcs][ow] + L.r * np.column_stack([np.cos(th), np.sin(th)])
+            lines.append(shapely.linestrings(pts, indices=ow))
+            owner.append(np.full(len(arcs), li))
+            index.append(2 * arcs)
+        if n > 1:
+            segs = np.flatnonzero(L.length > 0)
+            if len(segs):
+                P, Q = L.tangent_points()
+                lines.append(shapely.linestrings(np.stack([P[segs], Q[segs]], axis=1)))
+                owner.append(np.full(len(segs), li))
+                index.append(2 * segs + 1)
+        for idx in index[len(start):]:
+            start.append(cum[idx])
+            stop.append(cum[idx + 1])
+    if not lines:
+        return None
+    return (np.concatenate(lines), np.concatenate(owner), np.concatenate(index),
+            np.concatenate(start), np.concatenate(stop), np.array(totals))
+
+
+def _contacts(ctx: _Context, loops: list[_DiskLoop]):
+    """Touching places among the loops: list of (a, piece_a, x, b, piece_b, y).
+
+    Two loops touch where two of their pieces come within `TOUCH_SCALE` (the local frame has unit size);
+    one loop touches itself where two pieces do that are far apart along it (at least 0.9·π·r: between two
+    places where a loop of curvature ≤ 1/r meets itself it must turn by π).
+    """
+    touch = TOUCH_SCALE
+    r = ctx.r
+    arrays = _piece_arrays(loops)
+    if arrays is None:
         return []
-    tree = shapely.STRtree(geoms)
+    lines, owner, index, start, stop, totals = arrays
+    tree = shapely.STRtree(lines)
     sag = r * (1 - math.cos(math.pi / 64)) + touch
-    ia, ib = tree.query(geoms, predicate="dwithin", distance=sag)
+    ia, ib = tree.query(lines, predicate="dwithin", distance=sag)
     keep = ia < ib
+    ia, ib = ia[keep], ib[keep]
+    # Pieces of one loop that lie within 0.9·π·r of each other along it cannot touch in the surgery sense.
+    same = owner[ia] == owner[ib]
+    total = totals[owner[ia]]
+    far = np.maximum(stop[ia], stop[ib]) - np.minimum(start[ia], start[ib])          # widest separation
+    far = np.maximum(far, total - np.maximum(start[ia], start[ib]) + np.minimum(stop[ia], stop[ib]))
+    keep = ~same | (np.minimum(far, total) >= 0.9 * math.pi * r)
     out = []
     used = set()
     pieces_cache = {}
     for a, b in zip(ia[keep].tolist(), ib[keep].tolist()):
-        la, lb = owner[a], owner[b]
+        la, lb = int(owner[a]), int(owner[b])
         if la in used or lb in used:
             continue
         for li in (la, lb):
@@ -625,14 +656,13 @@ def _contacts(ctx: _Context, loops: list[_DiskLoop]):
         if d > touch:
             continue
         if la == lb:
-            # Same loop: a touch only if the two places are far apart along the loop.
-            sa = pos[a][0] + _along(Pa, x)
-            sb = pos[b][0] + _along(Pb, y)
+            sa = start[a] + _along(Pa, x)
+            sb = start[b] + _along(Pb, y)
             gap = abs(sa - sb)
             gap = min(gap, totals[la] - gap)
             if gap < 0.9 * math.pi * r:
                 continue
-        out.append((la, index[a], x, lb, index[b], y))
+        out.append((la, int(index[a]), x, lb, int(index[b]), y))
         used.update((la, lb))
     return out
 

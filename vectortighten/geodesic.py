@@ -60,8 +60,32 @@ class Triangulation:
         return self._tree
 
 
+def _triangles(domain) -> np.ndarray:
+    """Triangles ``(m, 3, 2)`` covering a polygonal domain, with no new vertices.
+
+    Uses earcut (mapbox_earcut, linear-time ear clipping in C++) when installed, else shapely's
+    constrained Delaunay triangulation (GEOS; the same triangles up to flips, many times slower). The
+    funnel algorithm needs a triangulation, not a Delaunay one.
+    """
+    try:
+        import mapbox_earcut
+    except ImportError:  # pragma: no cover - the dependency is declared
+        tris = shapely.get_parts(shapely.constrained_delaunay_triangles(domain))
+        if len(tris) == 0:
+            return np.zeros((0, 3, 2))
+        return shapely.get_coordinates(tris).reshape(len(tris), 4, 2)[:, :3]
+    out = []
+    for poly in shapely.get_parts(domain):
+        rings = [np.asarray(poly.exterior.coords)[:-1]] + [np.asarray(h.coords)[:-1] for h in poly.interiors]
+        verts = np.concatenate(rings)
+        ends = np.cumsum([len(x) for x in rings]).astype(np.uint32)
+        idx = np.asarray(mapbox_earcut.triangulate_float64(verts, ends)).reshape(-1, 3)
+        out.append(verts[idx])
+    return np.concatenate(out) if out else np.zeros((0, 3, 2))
+
+
 def triangulate(domain: Polygon | MultiPolygon) -> Triangulation:
-    """Constrained Delaunay triangulation of a polygonal domain, with its interior-edge adjacency.
+    """A triangulation of a polygonal domain (no new vertices), with its interior-edge adjacency.
 
     Examples
     --------
@@ -70,11 +94,10 @@ def triangulate(domain: Polygon | MultiPolygon) -> Triangulation:
     >>> len(T.tri), len(T.edge_vertices)
     (8, 8)
     """
-    tris = shapely.get_parts(shapely.constrained_delaunay_triangles(domain))
-    if len(tris) == 0:
+    coords = _triangles(domain)
+    if len(coords) == 0:
         return Triangulation(np.zeros((0, 2)), np.zeros((0, 3), int), np.zeros((0, 2), int),
                              np.zeros((0, 2), int))
-    coords = shapely.get_coordinates(tris).reshape(len(tris), 4, 2)[:, :3]
     xy, inverse = np.unique(coords.reshape(-1, 2), axis=0, return_inverse=True)
     tri = inverse.reshape(-1, 3)
     p = xy[tri]
