@@ -49,7 +49,10 @@ class Triangulation:
     tri: np.ndarray
     edge_vertices: np.ndarray
     edge_triangles: np.ndarray
+    neighbors: np.ndarray | None = None
+    slot_edge: np.ndarray | None = None
     _tree: shapely.STRtree | None = None
+    _tri_tree: shapely.STRtree | None = None
 
     @property
     def edge_tree(self) -> shapely.STRtree:
@@ -60,16 +63,20 @@ class Triangulation:
         return self._tree
 
 
-def _triangles(domain) -> np.ndarray:
+def _triangles(domain, use_earcut: bool = True) -> np.ndarray:
     """Triangles ``(m, 3, 2)`` covering a polygonal domain, with no new vertices.
 
-    Uses earcut (mapbox_earcut, linear-time ear clipping in C++) when installed, else shapely's
-    constrained Delaunay triangulation (GEOS; the same triangles up to flips, many times slower). The
-    funnel algorithm needs a triangulation, not a Delaunay one.
+    Uses earcut (mapbox_earcut, ear clipping in C++) when installed, else shapely's constrained Delaunay
+    triangulation (GEOS; many times slower). The funnel algorithm needs a triangulation, not a Delaunay
+    one, but it must be edge-to-edge: `triangulate` checks that and falls back to GEOS otherwise (earcut
+    can leave T-junctions where vertices of different rings are collinear).
     """
-    try:
-        import mapbox_earcut
-    except ImportError:  # pragma: no cover - the dependency is declared
+    if use_earcut:
+        try:
+            import mapbox_earcut
+        except ImportError:  # pragma: no cover - the dependency is declared
+            use_earcut = False
+    if not use_earcut:
         tris = shapely.get_parts(shapely.constrained_delaunay_triangles(domain))
         if len(tris) == 0:
             return np.zeros((0, 3, 2))
@@ -94,7 +101,35 @@ def triangulate(domain: Polygon | MultiPolygon) -> Triangulation:
     >>> len(T.tri), len(T.edge_vertices)
     (8, 8)
     """
-    coords = _triangles(domain)
+    T = _build(_triangles(domain))
+    if len(T.tri) and not _conforms(T, domain):
+        T = _build(_triangles(domain, use_earcut=False))
+    return T
+
+
+def _conforms(T: Triangulation, domain) -> bool:
+    """Whether the triangles' unmatched edges are exactly the domain's boundary edges (no T-junction)."""
+    key = T.xy[:, 0] + 1j * T.xy[:, 1]          # T.xy is sorted, so are these keys
+    want = []
+    for ring in shapely.get_rings(shapely.get_parts(domain)):
+        c = shapely.get_coordinates(ring)
+        k = np.searchsorted(key, c[:, 0] + 1j * c[:, 1])
+        if (k >= len(key)).any() or (key[np.minimum(k, len(key) - 1)] != c[:, 0] + 1j * c[:, 1]).any():
+            return False
+        want.append(np.sort(np.column_stack([k[:-1], k[1:]]), axis=1))
+    want = np.concatenate(want)
+    slots = np.flatnonzero(T.neighbors.reshape(-1) < 0)
+    u = T.tri.reshape(-1)[slots]
+    v = np.roll(T.tri, -1, axis=1).reshape(-1)[slots]
+    have = np.sort(np.column_stack([u, v]), axis=1)
+    if len(have) != len(want):
+        return False
+    n = len(T.xy)
+    return bool(np.array_equal(np.sort(have[:, 0] * n + have[:, 1]), np.sort(want[:, 0] * n + want[:, 1])))
+
+
+def _build(coords: np.ndarray) -> Triangulation:
+    """Vertices, triangles (counter-clockwise) and edge adjacency of a list of triangles."""
     if len(coords) == 0:
         return Triangulation(np.zeros((0, 2)), np.zeros((0, 3), int), np.zeros((0, 2), int),
                              np.zeros((0, 2), int))
@@ -121,7 +156,15 @@ def triangulate(domain: Polygon | MultiPolygon) -> Triangulation:
     interior = (twin >= 0) & (u < v)
     ev = np.column_stack([u[interior], v[interior]])
     et = np.column_stack([owner[interior], owner[twin[interior]]])
-    return Triangulation(xy=xy, tri=tri, edge_vertices=ev, edge_triangles=et)
+    # Per triangle slot k (its edge from tri[t, k] to tri[t, k+1]): the neighbour across it (-1 on the
+    # boundary) and the interior edge's number.
+    neighbors = np.where(twin >= 0, owner[np.maximum(twin, 0)], -1).reshape(nt, 3)
+    eid = np.full(3 * nt, -1, dtype=np.int64)
+    slots = np.flatnonzero(interior)
+    eid[slots] = np.arange(len(slots))
+    eid[twin[slots]] = np.arange(len(slots))
+    return Triangulation(xy=xy, tri=tri, edge_vertices=ev, edge_triangles=et, neighbors=neighbors,
+                         slot_edge=eid.reshape(nt, 3))
 
 
 def _orient(a, b, c):
@@ -129,8 +172,28 @@ def _orient(a, b, c):
     return (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])
 
 
+def _locate(T: Triangulation, p) -> int:
+    """The triangle containing point p, or -1.
+
+    A point on an interior edge (u, v), u < v, belongs to the triangle on the left of u→v — the same
+    convention the walk in `crossings` uses, so a walk that returns to its start ends where it began.
+    """
+    if T._tri_tree is None:
+        T._tri_tree = shapely.STRtree(shapely.polygons(T.xy[T.tri]))
+    cand = T._tri_tree.query(shapely.points(p))
+    if len(cand) == 0:
+        return -1
+    q = T.xy[T.tri[cand]]
+    o = np.stack([_orient(q[:, k], q[:, (k + 1) % 3], np.asarray(p)[None, :]) for k in range(3)], axis=1)
+    u = T.tri[cand]
+    v = np.roll(T.tri[cand], -1, axis=1)
+    on_left_by_rule = (u < v) | (T.neighbors[cand] < 0)
+    inside = np.flatnonzero(((o > 0) | ((o == 0) & on_left_by_rule)).all(axis=1))
+    return int(cand[inside[0]]) if len(inside) else -1
+
+
 def crossings(T: Triangulation, ring: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Interior edges crossed by a closed polyline, in order along it.
+    """Interior edges crossed by a closed polyline, in order along it (a walk through the triangles).
 
     Parameters
     ----------
@@ -145,34 +208,67 @@ def crossings(T: Triangulation, ring: np.ndarray) -> tuple[np.ndarray, np.ndarra
         Interior edge crossed at each crossing.
     leftward : (k,) bool
         True where the polyline crosses edge (u, v) from its right to its left.
+
+    Notes
+    -----
+    Points exactly on an edge count as on its left (a consistent symbolic perturbation), so a polyline
+    through a vertex or along an edge still gets a well-defined sequence.
     """
     pts = np.asarray(ring, dtype=float)
     if len(pts) > 1 and np.array_equal(pts[0], pts[-1]):
         pts = pts[:-1]
-    P0 = pts
-    P1 = np.roll(pts, -1, axis=0)
-    keep = np.any(P0 != P1, axis=1)
-    P0, P1 = P0[keep], P1[keep]
-    segs = shapely.linestrings(np.stack([P0, P1], axis=1))
-    si, ei = T.edge_tree.query(segs)  # bounding boxes only: the crossing test below decides
-    if len(si) == 0:
-        return np.zeros(0, int), np.zeros(0, bool)
-    U = T.xy[T.edge_vertices[ei, 0]]
-    V = T.xy[T.edge_vertices[ei, 1]]
-    a, b = P0[si], P1[si]
-    oa = _orient(U, V, a)
-    ob = _orient(U, V, b)
-    ou = _orient(a, b, U)
-    ov = _orient(a, b, V)
-    # Symbolic perturbation: a point exactly on a line counts as on its left.
-    sa, sb = np.where(oa >= 0, 1, -1), np.where(ob >= 0, 1, -1)
-    su, sv = np.where(ou >= 0, 1, -1), np.where(ov >= 0, 1, -1)
-    proper = (sa != sb) & (su != sv)
-    si, ei, oa, ob, sa = si[proper], ei[proper], oa[proper], ob[proper], sa[proper]
-    denom = oa - ob
-    t = np.where(denom != 0, oa / np.where(denom != 0, denom, 1.0), 0.5)
-    order = np.lexsort((t, si))
-    return ei[order], (sa[order] < 0)
+    keep = np.any(pts != np.roll(pts, -1, axis=0), axis=1)
+    pts = pts[keep]
+    t = _locate(T, pts[0])
+    if t < 0:
+        raise ValueError("the polyline starts outside the triangulated domain")
+    X = T.xy[:, 0].tolist()
+    Y = T.xy[:, 1].tolist()
+    tri = T.tri.tolist()
+    nbr = T.neighbors.tolist()
+    sedge = T.slot_edge.tolist()
+    ev0 = T.edge_vertices[:, 0].tolist()
+    out_e: list[int] = []
+    out_l: list[bool] = []
+    P = pts.tolist()
+    n = len(P)
+    for i in range(n):
+        px, py = P[i]
+        qx, qy = P[(i + 1) % n]
+        entry = -1
+        for _ in range(len(tri) + 3):
+            a, b, c = tri[t]
+            vx = (X[a], X[b], X[c])
+            vy = (Y[a], Y[b], Y[c])
+            exit_k = -1
+            for k in range(3):
+                if k == entry:
+                    continue
+                k1 = (k + 1) % 3
+                # q right of the edge (outside the triangle) and the edge straddles p→q. On the edge
+                # itself, q belongs to the triangle on the left of (u, v) with u < v.
+                oq = (vx[k1] - vx[k]) * (qy - vy[k]) - (vy[k1] - vy[k]) * (qx - vx[k])
+                if oq > 0 or (oq == 0 and (tri[t][k] < tri[t][k1] or nbr[t][k] < 0)):
+                    continue
+                o1 = (qx - px) * (vy[k] - py) - (qy - py) * (vx[k] - px)
+                o2 = (qx - px) * (vy[k1] - py) - (qy - py) * (vx[k1] - px)
+                if (o1 >= 0) != (o2 >= 0):
+                    exit_k = k
+                    break
+            if exit_k < 0:
+                break
+            nt = nbr[t][exit_k]
+            if nt < 0:
+                raise ValueError("the polyline leaves the triangulated domain")
+            e = sedge[t][exit_k]
+            # Leaving through slot (u -> v) of t, t on its left: rightward iff u is the edge's first vertex.
+            out_e.append(e)
+            out_l.append(tri[t][exit_k] != ev0[e])
+            # Entry slot of the neighbour: the one whose edge is this edge.
+            row = sedge[nt]
+            entry = row.index(e)
+            t = nt
+    return np.array(out_e, dtype=np.int64), np.array(out_l, dtype=bool)
 
 
 def reduce_cyclic(edges: np.ndarray, leftward: np.ndarray) -> list[tuple[int, bool]]:

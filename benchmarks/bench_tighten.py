@@ -1,0 +1,155 @@
+"""Speed of the exact tightening against shapely's opening + closing at the same tolerance.
+
+For each shape and size the script times, in the same process and alternately (the machines are noisy),
+
+* the baseline: ``S.buffer(-r).buffer(r)`` and ``S.buffer(r).buffer(-r)`` with the ``quad_segs`` that the
+  tolerance (1e-5·r) gives, i.e. the plain opening and closing;
+* ``vectortighten.tighten(S, r)`` with the same tolerance (init="core");
+
+and reports the medians and their ratio. Shapes:
+
+* ``wavy star``: a star whose radius oscillates gently; r is below its smallest radius of curvature, so
+  every corner is isolated (the engine's fast path);
+* ``rough star``: the same star with r well above the waves' radius of curvature: the whole boundary is in
+  the mortar and the general engine (triangulated mortar, funnel, surgery) does the work;
+* ``traced contour``: the boundary of a noisy blob traced from a raster image with marching squares
+  (pixel staircase, many tiny corners), like a segmentation mask's outline.
+
+Run:  python benchmarks/bench_tighten.py [--sizes 1000 10000 100000 1000000] [--repeats 3]
+It prints a markdown table and writes it to benchmarks/results/tighten.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import platform
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon
+
+import vectortighten as vt
+from vectortighten._validation import quad_segs_for
+
+HERE = Path(__file__).resolve().parent
+
+
+def wavy_star(n: int, waves: int = 12, amp: float = 0.04) -> Polygon:
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    rad = 10 * (1 + amp * np.sin(waves * t))
+    return Polygon(np.column_stack([rad * np.cos(t), rad * np.sin(t)]))
+
+
+def traced_contour(n: int, seed: int = 7) -> Polygon:
+    """The outline of a noisy blob traced from an image whose resolution gives about n vertices."""
+    import contourpy
+
+    side = max(32, int(n / 6))                      # a traced blob has about 6 vertices per pixel row
+    rng = np.random.default_rng(seed)
+    y, x = np.mgrid[-1:1:side * 1j, -1:1:side * 1j]
+    field = 0.65 - np.hypot(x, y)
+    for k in range(1, 7):
+        phase = rng.uniform(0, 2 * np.pi, 2)
+        field += 0.05 / k * np.sin(3 * k * x + phase[0]) * np.cos(2 * k * y + phase[1])
+    mask = field > 0
+    gen = contourpy.contour_generator(z=mask.astype(float), name="serial")
+    lines = gen.lines(0.5)
+    ring = max(lines, key=len)
+    P = Polygon(ring * (20.0 / side))
+    return P if P.is_valid else shapely.make_valid(P).geoms[0]
+
+
+def _median_time(fn, repeats: int) -> float:
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
+
+
+def measure(S: Polygon, r: float, repeats: int) -> dict:
+    tol = 1e-5 * r
+    q = quad_segs_for(r, tol)
+
+    def baseline():
+        S.buffer(-r, quad_segs=q).buffer(r, quad_segs=q)
+        S.buffer(r, quad_segs=q).buffer(-r, quad_segs=q)
+
+    result = {}
+
+    def ours():
+        result["T"] = vt.tighten(S, r, tolerance=tol)
+
+    base, mine = [], []
+    for _ in range(repeats):           # alternate, so that both see the same machine load
+        base.append(_median_time(baseline, 1))
+        mine.append(_median_time(ours, 1))
+    T = result["T"]
+    return {
+        "vertices": len(shapely.get_coordinates(S)) - 1,
+        "baseline": statistics.median(base),
+        "tighten": statistics.median(mine),
+        "path": T._cache.get("_path", "?"),
+        "loops": len(T.loops),
+        "pieces": sum(len(loop) for loop in T.loops),
+    }
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 10_000, 100_000, 1_000_000])
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--shapes", nargs="+", default=["wavy star", "rough star", "traced contour"])
+    parser.add_argument("--out", type=Path, default=HERE / "results" / "tighten.md")
+    args = parser.parse_args(argv)
+    makers = {
+        "wavy star": (lambda n: wavy_star(n), 0.5),
+        "rough star": (lambda n: wavy_star(n, waves=60, amp=0.02), 1.0),
+        "traced contour": (traced_contour, 0.6),
+    }
+    rows = []
+    for name in args.shapes:
+        make, r = makers[name]
+        for n in args.sizes:
+            S = make(n)
+            repeats = args.repeats if n <= 100_000 else 1
+            m = measure(S, r, repeats)
+            m.update(shape=name, r=r, ratio=m["tighten"] / m["baseline"])
+            rows.append(m)
+            print(f"{name:15s} n={m['vertices']:>8d} r={r:<4g} baseline {m['baseline']:.3f}s  "
+                  f"tighten {m['tighten']:.3f}s  ratio {m['ratio']:.1f}  ({m['path']} path)", flush=True)
+    lines = [
+        "# Tightening speed vs. shapely opening + closing",
+        "",
+        f"Machine: {platform.machine()}, Python {platform.python_version()}, shapely {shapely.__version__} "
+        f"(GEOS {'.'.join(map(str, shapely.geos_version))}). Tolerance 1e-5·r for both; medians of "
+        f"{args.repeats} alternating runs (1 for a million vertices). Command: "
+        f"`python benchmarks/bench_tighten.py --sizes {' '.join(map(str, args.sizes))}`.",
+        "",
+        "| shape | vertices | r | opening + closing (s) | tighten (s) | ratio | engine path | output pieces |",
+        "|---|---:|---:|---:|---:|---:|---|---:|",
+    ]
+    for m in rows:
+        lines.append(f"| {m['shape']} | {m['vertices']} | {m['r']:g} | {m['baseline']:.3f} | {m['tighten']:.3f} "
+                     f"| {m['ratio']:.1f} | {m['path']} | {m['pieces']} |")
+    # Growth: time per vertex from the smallest to the largest size of each shape.
+    lines += ["", "Growth of the tightening's time (exponent of n between consecutive sizes):", ""]
+    for name in args.shapes:
+        sub = [m for m in rows if m["shape"] == name]
+        exps = [math.log(b["tighten"] / a["tighten"]) / math.log(b["vertices"] / a["vertices"])
+                for a, b in zip(sub, sub[1:])]
+        lines.append(f"- {name}: " + ", ".join(f"{e:.2f}" for e in exps))
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
