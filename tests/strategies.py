@@ -77,3 +77,39 @@ def radii_for(S):
     x0, y0, x1, y1 = S.bounds
     size = max(x1 - x0, y1 - y0)
     return st.floats(size / 40, size / 4)
+
+
+def pixel_outline(n: int, seed: int = 7) -> Polygon:
+    """The pixel outline of a noisy blob digitised at a resolution that gives about n vertices.
+
+    The blob (a disk of radius 10 with six octaves of smooth noise on its radius) is digitised row by row:
+    each pixel row keeps the run of pixels between the curve's leftmost and rightmost points in that row,
+    and the outline is the staircase around those runs, as a segmentation mask's traced boundary is. It
+    is built in O(n) without an image, so a million vertices need no gigapixel raster.
+    """
+    rng = np.random.default_rng(seed)
+    side = max(16, int(n / 2))                      # pixel rows across the blob; ~2 vertices per row
+    h = 20.0 / side
+    m = 16 * side
+    t = np.linspace(0, 2 * np.pi, m, endpoint=False)
+    rad = np.full(m, 8.0)
+    for k in range(1, 7):
+        rad += 0.6 / k * np.sin(3 * k * t + rng.uniform(0, 2 * np.pi))
+    x, y = rad * np.cos(t), rad * np.sin(t)
+    rows = np.floor(y / h).astype(np.int64)
+    j0 = rows.min()
+    rows -= j0
+    nrow = rows.max() + 1
+    lo = np.full(nrow, np.iinfo(np.int64).max)
+    hi = np.full(nrow, np.iinfo(np.int64).min)
+    cols = np.floor(x / h).astype(np.int64)
+    np.minimum.at(lo, rows, cols)
+    np.maximum.at(hi, rows, cols + 1)
+    j = np.arange(nrow)
+    right = np.column_stack([np.repeat(hi, 2), np.column_stack([j, j + 1]).ravel()])
+    left = np.column_stack([np.repeat(lo, 2), np.column_stack([j, j + 1]).ravel()])[::-1]
+    ring = np.vstack([right, left]).astype(float)
+    ring[:, 1] += j0
+    P = shapely.remove_repeated_points(Polygon(ring * h))
+    P = shapely.simplify(P, 0.0)                    # drop collinear vertices (exactly, tolerance 0)
+    return P if P.is_valid else max(shapely.make_valid(P).geoms, key=lambda g: g.area)

@@ -13,7 +13,16 @@ from vectortighten import Loop
 from vectortighten.engine import Init, _tighten
 from vectortighten.errors import GeometryTypeError, InvalidGeometryError, InvalidRadiusError, RepairWarning
 
-from .strategies import box_unions, disk_unions, holed, radii_for, shapes, stars, with_redundant_vertices
+from .strategies import (
+    box_unions,
+    disk_unions,
+    holed,
+    pixel_outline,
+    radii_for,
+    shapes,
+    stars,
+    with_redundant_vertices,
+)
 
 L_SHAPE = Polygon([(0, 0), (10, 0), (10, 3), (3, 3), (3, 10), (0, 10)])
 INITS = ["core", "input", "mason"]
@@ -299,3 +308,17 @@ def test_morphology_attributes_and_svg():
     assert T.mortar.area == pytest.approx(T.fillet.area - T.core.area, rel=1e-9)
     path = T.svg_path(8)
     assert path.count(" A ") == 6 and path.startswith("M")
+
+
+@pytest.mark.parametrize("n, r", [(250, 0.3), (250, 0.6), (400, 1.5)])
+def test_pixel_staircase_outline(n, r):
+    """A traced mask outline: hundreds of right-angle corners, all in the mortar.
+
+    Regression: a disk the tight loop only grazes came out with a sweep of −5e-15 (the wrong way by
+    rounding), which verify() rightly read as a cusp.
+    """
+    S = pixel_outline(n, seed=3)
+    T = vt.tighten(S, r)
+    assert T.verify() == []
+    assert T.min_radius_of_curvature == pytest.approx(r, rel=1e-12)
+    assert all(piece.sweep != 0.0 for loop in T.loops for piece in loop.pieces if isinstance(piece, vt.Arc))

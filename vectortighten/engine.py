@@ -516,7 +516,8 @@ def _finish(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray) -
             keep[drop] = False
             cid, side, ref = cid[keep], side[keep], sw[keep]
             continue
-        sw = np.where(np.abs(sw) < 1e-15, 0.0, sw)
+        # A turn the wrong way by less than _ANGLE_EPS is rounding on a disk the loop only grazes: no arc.
+        sw = np.where((side * sw < 0) | (np.abs(sw) < 1e-15), 0.0, sw)
         loop = _DiskLoop(cid, side, c, phi, length, sw, r)
         last = loop
         state = (tuple(cid.tolist()), tuple(side.tolist()))
