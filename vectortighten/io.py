@@ -81,6 +81,8 @@ _W3C_DTD = re.compile(r"^(-//W3C//DTD SVG [0-9.]+( Tiny| Basic)?//EN|https?://ww
 _GEOMETRY_ATTRS = ("d", "points", "transform", "x", "y", "cx", "cy", "r", "rx", "ry", "width", "height",
                    "x1", "y1", "x2", "y2", "viewBox")
 _NONFINITE = re.compile(r"(?<![a-z])(nan|inf(inity)?)(?![a-z])", re.IGNORECASE)
+# Marks the layers `svg_document` adds besides the tightening; `read_svg` skips them.
+_LAYER_ATTR = "data-vectortighten-layer"
 # Containers whose shapes are not drawn where they stand (only through <use>, or not at all).
 _NOT_RENDERED = ("defs", "symbol", "mask", "marker", "pattern", "clipPath")
 
@@ -101,6 +103,12 @@ def _require(module: str, extra: str, what: str):
 # ---------------------------------------------------------------------------------------------------------
 # Atomic writes
 # ---------------------------------------------------------------------------------------------------------
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 @contextmanager
 def atomic_path(path):
     """Give a temporary path beside ``path`` to write to; rename it onto ``path`` only on success.
@@ -130,6 +138,10 @@ def atomic_path(path):
         raise IsADirectoryError(21, "output is a folder", str(path))
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=f".tmp{path.suffix}")
     os.close(fd)
+    try:  # mkstemp makes the file private; give it the mode of the file it replaces, or the usual one
+        os.chmod(tmp, path.stat().st_mode & 0o7777 if path.exists() else 0o666 & ~_umask())
+    except OSError:
+        pass
     try:
         yield Path(tmp)
         os.replace(tmp, path)
@@ -208,12 +220,14 @@ def _read_geojson(path: Path):
     except json.JSONDecodeError as exc:
         raise InvalidGeometryError(f"{path}: malformed GeoJSON ({exc.msg} at line {exc.lineno})") from None
     try:
-        if isinstance(data, dict) and data.get("type") == "FeatureCollection":
-            geoms = [shape(f["geometry"]) for f in data["features"] if f.get("geometry")]
-        elif isinstance(data, dict) and data.get("type") == "Feature":
-            geoms = [shape(data["geometry"])] if data.get("geometry") else []
-        else:
-            geoms = [shape(data)]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # GEOS warns on NaN; checked below
+            if isinstance(data, dict) and data.get("type") == "FeatureCollection":
+                geoms = [shape(f["geometry"]) for f in data["features"] if f.get("geometry")]
+            elif isinstance(data, dict) and data.get("type") == "Feature":
+                geoms = [shape(data["geometry"])] if data.get("geometry") else []
+            else:
+                geoms = [shape(data)]
     except (KeyError, TypeError, ValueError, AttributeError, IndexError, shapely.errors.ShapelyError) as exc:
         detail = f"missing {exc}" if isinstance(exc, KeyError) else str(exc) or type(exc).__name__
         raise InvalidGeometryError(f"{path}: malformed GeoJSON ({detail})") from None
@@ -327,11 +341,12 @@ def _safe_svg_tree(data: bytes, source: str):
             return parse(forbid_dtd=True)
         except dx.DTDForbidden as exc:
             ids = [i for i in (exc.pubid, exc.sysid) if i]
-            if not ids or not all(_W3C_DTD.match(i) for i in ids):
+            if ids and not all(_W3C_DTD.match(i) for i in ids):
                 raise InvalidGeometryError(
                     f"{source}: refused: the SVG references an external DTD "
                     f"({exc.sysid or exc.pubid!r}); external references are not followed") from None
-            return parse(forbid_dtd=False)  # the W3C's SVG DTD: accepted, never loaded
+            # No external DTD, or the W3C's own SVG DTD (never loaded): parse again, refusing entities.
+            return parse(forbid_dtd=False)
     except dx.EntitiesForbidden as exc:
         kind = "an external entity" if exc.sysid else "an entity"
         raise InvalidGeometryError(
@@ -369,6 +384,9 @@ def _prepare_svg(root, source: str, se) -> tuple[bytes, dict[str, int]]:
             ignored[tag] = ignored.get(tag, 0) + 1
     # <symbol>, <mask>, <marker>, <pattern> and <clipPath> are not drawn where they stand; svgelements
     # lists their shapes as if they were. Inside <defs> they are drawn only through <use>, as they should.
+    for el in list(root.iter()):
+        if el.get(_LAYER_ATTR) is not None and el in parent:      # input/core/mortar drawn by svg_document
+            parent[el].remove(el)
     defs = ET.Element("{http://www.w3.org/2000/svg}defs")
     for el in list(root.iter()):
         tag = _local(el.tag)
@@ -402,7 +420,8 @@ def _curve_chords(seg, se, tol: float) -> np.ndarray:
         p = np.array([[seg.start.x, seg.start.y], [seg.control1.x, seg.control1.y],
                       [seg.control2.x, seg.control2.y], [seg.end.x, seg.end.y]])
         bend = max(np.hypot(*(p[0] - 2 * p[1] + p[2])), np.hypot(*(p[1] - 2 * p[2] + p[3])))
-        n = math.ceil(math.sqrt(6.0 * bend / (8.0 * tol)))     # |B''| ≤ 6·bend; chord error ≤ |B''|/(8n²)
+        # |B''| ≤ 6·bend, and a chord of a parameter step h is within |B''|·h²/8 of the curve.
+        n = math.ceil(math.sqrt(6.0 * bend / (8.0 * tol)))
     elif isinstance(seg, se.QuadraticBezier):
         p = np.array([[seg.start.x, seg.start.y], [seg.control.x, seg.control.y], [seg.end.x, seg.end.y]])
         bend = np.hypot(*(p[0] - 2 * p[1] + p[2]))
@@ -554,8 +573,9 @@ def read_svg(source, *, flatten: float | None = None) -> Polygon | MultiPolygon:
     -------
     Polygon or MultiPolygon
         Every shape filled by its own fill rule, all united. Shapes are read whatever their paint (cutting
-        files often draw outlines only); ``display="none"`` and unrendered containers are skipped; text
-        and images are skipped with a warning.
+        files often draw outlines only); ``display="none"``, unrendered containers (defs, symbol, mask,
+        marker, pattern, clipPath) and the extra layers `svg_document` adds are skipped; text and images
+        are skipped with a warning.
 
     Examples
     --------
@@ -579,8 +599,8 @@ def read_svg(source, *, flatten: float | None = None) -> Polygon | MultiPolygon:
             warnings.simplefilter("ignore")
             svg = se.SVG.parse(_stdio.BytesIO(clean), reify=False, on_error="raise")
     except (ValueError, TypeError, IndexError, AttributeError, KeyError, ZeroDivisionError) as exc:
-        raise InvalidGeometryError(f"{name}: malformed SVG ({type(exc).__name__}: {exc})".replace(": )", ")")) \
-            from None
+        detail = f"{type(exc).__name__}: {exc}" if str(exc) else type(exc).__name__
+        raise InvalidGeometryError(f"{name}: malformed SVG ({detail})") from None
     # The root viewport maps user units to px; undo it so coordinates are the drawing's user units.
     view = _matrix(se.Matrix(svg.viewbox_transform)) if getattr(svg, "viewbox_transform", "") else np.eye(3)
     try:
@@ -610,7 +630,8 @@ def read_svg(source, *, flatten: float | None = None) -> Polygon | MultiPolygon:
         corners = []
         for path, m, _, _ in shapes:
             pts = np.array([[s.end.x, s.end.y] for s in path if s.end is not None] or [[0.0, 0.0]])
-            corners.append(pts @ m[:2, :2].T + m[:2, 2])
+            with np.errstate(all="ignore"):
+                corners.append(pts @ m[:2, :2].T + m[:2, 2])
         allpts = np.concatenate(corners)
         allpts = allpts[np.isfinite(allpts).all(axis=1)]
         diag = float(np.hypot(*(allpts.max(axis=0) - allpts.min(axis=0)))) if len(allpts) else 0.0
@@ -619,7 +640,8 @@ def read_svg(source, *, flatten: float | None = None) -> Polygon | MultiPolygon:
     for path, m, smax, rule in shapes:
         rings = []
         for ring in _subpath_rings(path, se, flatten / smax):
-            user = ring @ m[:2, :2].T + m[:2, 2]
+            with np.errstate(all="ignore"):
+                user = ring @ m[:2, :2].T + m[:2, 2]
             if not np.isfinite(user).all():
                 raise InvalidGeometryError(f"{name}: NaN or infinite coordinates (after transforms)")
             rings.append(user)
@@ -730,7 +752,8 @@ def svg_document(result, *, layers=()) -> str:
         if name in layers:
             style, geom = styles[name]
             d = _polygon_path_flipped(geom())
-            lines.append(f'<g id="{name}" inkscape:label="{name}" inkscape:groupmode="layer">'
+            lines.append(f'<g id="{name}" {_LAYER_ATTR}="{name}" inkscape:label="{name}" '
+                         'inkscape:groupmode="layer">'
                          + (f'<path d="{d}" fill-rule="evenodd" {style}/>' if d else "") + "</g>")
     fill = 'fill="#d1495b" fill-opacity="0.6"' if layers else 'fill="#d1495b"'
     d = " ".join(_loop_path_flipped(lp) for lp in result.loops)
@@ -739,7 +762,7 @@ def svg_document(result, *, layers=()) -> str:
                     f'stroke-width="{stroke}"/>' if d else "") + "</g>")
     if "input" in layers:
         d = _polygon_path_flipped(result.shape)
-        lines.append('<g id="input" inkscape:label="input" inkscape:groupmode="layer">'
+        lines.append(f'<g id="input" {_LAYER_ATTR}="input" inkscape:label="input" inkscape:groupmode="layer">'
                      + (f'<path d="{d}" fill="none" stroke="#1f3b73" stroke-width="{stroke}" '
                         f'stroke-dasharray="{_num(0.01 * size)}"/>' if d else "") + "</g>")
     lines.append("</svg>")
@@ -765,13 +788,14 @@ def _write_dxf(result, tmp: Path, layers) -> None:
                 msp.add_arc(p.center, p.radius, math.degrees(a0) % 360.0, math.degrees(a1) % 360.0,
                             dxfattribs=attribs)
     for name in layers:
-        geom = {"input": lambda: result.shape, "core": lambda: result.core, "mortar": lambda: result.mortar}[name]()
+        geom = result.shape if name == "input" else getattr(result, name)
         doc.layers.add(name.upper(), color={"input": 5, "core": 7, "mortar": 8}[name])
         for poly in shapely.get_parts(geom):
             if not isinstance(poly, Polygon) or poly.is_empty:
                 continue
             for ring in (poly.exterior, *poly.interiors):
-                msp.add_lwpolyline(np.asarray(ring.coords)[:-1], close=True, dxfattribs={"layer": name.upper()})
+                msp.add_lwpolyline(np.asarray(ring.coords)[:-1], close=True,
+                                   dxfattribs={"layer": name.upper()})
     doc.saveas(tmp)
 
 
@@ -789,7 +813,8 @@ def _write_png(result, f, layers) -> None:
             plotting.draw_geometry(ax, result.core, facecolor=plotting.COLORS["core"], edgecolor="none",
                                    alpha=0.85)
         plotting.draw_geometry(ax, result.geometry, facecolor=plotting.COLORS["tight"],
-                               edgecolor=plotting.COLORS["tight"], alpha=0.6 if layers else 1.0, linewidth=1.0)
+                               edgecolor=plotting.COLORS["tight"], alpha=0.6 if layers else 1.0,
+                               linewidth=1.0)
         if "input" in layers:
             plotting.draw_geometry(ax, result.shape, edgecolor=plotting.COLORS["input"], linewidth=0.8,
                                    linestyle="--")
