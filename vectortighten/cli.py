@@ -222,8 +222,9 @@ def _error_text(exc: BaseException) -> str:
 
 def _user_errors():
     from .errors import TighteningError
+    from .io import MissingDependencyError
 
-    return (UsageError, TighteningError, ValueError, TypeError, OSError)
+    return (UsageError, TighteningError, MissingDependencyError, ValueError, TypeError, OSError)
 
 
 def _prefixed(path: Path, message: str) -> str:
