@@ -134,15 +134,17 @@ def test_bad_inputs_are_one_line(name, needle, files, tmp_path, capsys):
     (["tighten", "{sq}", "-r", "1", "-o", "{tmp}/x.wkt", "--tolerance", "5"], "tolerance"),
     (["tighten", "{sq}", "-r", "1", "-o", "{tmp}/x.wkt", "--format", "svg"], "disagrees"),
     (["tighten", "{sq}", "{sq}", "-r", "1", "-o", "{tmp}/o"], "both be written"),
-    (["tighten", "{sq}", "{sq}", "-r", "1", "-o", "{tmp}/no/o"], "does not exist"),
+    (["tighten", "{sq}", "{other}", "-r", "1", "-o", "{tmp}/no/o"], "does not exist"),
     (["tighten", "{sq}", "{sq}", "-r", "1", "-o", "{sq}"], "not a folder"),
     (["tighten", "{tmp}/empty", "-r", "1", "-o", "{tmp}/o"], "no input files"),
     (["demo", "-o", "{tmp}/no/such/dir"], "does not exist"),
 ])
 def test_errors_are_one_line(argv, needle, square_wkt, tmp_path, capsys):
     (tmp_path / "empty").mkdir()
+    other = tmp_path / "other.wkt"
+    other.write_text("POLYGON ((0 0, 5 0, 5 5, 0 0))")
     before = square_wkt.read_text()
-    argv = [a.format(sq=square_wkt, tmp=tmp_path) for a in argv]
+    argv = [a.format(sq=square_wkt, tmp=tmp_path, other=other) for a in argv]
     assert main(argv) == 2
     line = one_error_line(capsys)
     assert needle.lower() in line.lower(), line
@@ -397,3 +399,17 @@ def test_python_dash_m(tmp_path, square_wkt):
     proc = subprocess.run([sys.executable, "-m", "vectortighten", "tighten", str(tmp_path / "none.wkt"),
                            "-r", "1", "-o", str(tmp_path / "x.wkt")], capture_output=True, text=True, env=env)
     assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1
+
+
+def test_hard_link_to_input_refused(square_wkt, tmp_path, capsys):
+    link = tmp_path / "hard.wkt"
+    os.link(square_wkt, link)
+    assert main(["tighten", str(square_wkt), "-r", "1", "-o", str(link)]) == 2
+    assert "overwrite the input" in one_error_line(capsys)
+    assert square_wkt.read_text().startswith("POLYGON")
+
+
+def test_batch_refusal_creates_no_folder(square_wkt, tmp_path, capsys):
+    out = tmp_path / "o"
+    assert main(["tighten", str(square_wkt), str(square_wkt), "-r", "1", "-o", str(out)]) == 2
+    assert not out.exists()

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import multiprocessing
 import os
 import sys
 import warnings
@@ -316,7 +317,8 @@ def _plan(args) -> tuple[list[_Task], bool]:
     opts = dict(r=args.radius, init=args.init, tolerance=args.tolerance, flatten=args.flatten,
                 layers=args.layers, threshold=args.threshold)
     if batch:
-        _out_folder(out)
+        if out.exists() and not out.is_dir():
+            raise UsageError(f"{str(out)!r} exists and is not a folder")
         targets = []
         for f in files:
             ext = args.format or (f.suffix.lower() if f.suffix.lower() in _VECTOR_OUT + (".png",) else ".svg")
@@ -335,13 +337,24 @@ def _plan(args) -> tuple[list[_Task], bool]:
     tasks = []
     for f, t in zip(files, targets):
         rt = t.resolve()
-        if rt in resolved_in:
-            raise UsageError(f"refusing to overwrite the input {str(resolved_in[rt])!r}")
+        hit = resolved_in.get(rt) or next((g for g in files if _same_file(g, t)), None)
+        if hit is not None:
+            raise UsageError(f"refusing to overwrite the input {str(hit)!r}")
         if rt in seen:
             raise UsageError(f"{str(seen[rt])!r} and {str(f)!r} would both be written to {str(t)!r}")
         seen[rt] = f
         tasks.append(_Task(f, t, **opts))
+    if batch:
+        _out_folder(out)
     return tasks, batch
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    """Whether two existing paths are the same file (hard links included)."""
+    try:
+        return a.exists() and b.exists() and os.path.samefile(a, b)
+    except OSError:
+        return False
 
 
 class _Progress:
@@ -413,7 +426,9 @@ def _cmd_tighten(args) -> int:
                 _report(outcomes[-1], progress)
                 progress.step()
         else:
-            with ProcessPoolExecutor(max_workers=jobs) as pool:
+            # Fresh interpreters, not forks: safe whatever threads the parent runs, the same on every OS.
+            context = multiprocessing.get_context("spawn")
+            with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
                 futures = {pool.submit(_run_task, task): task for task in tasks}
                 try:
                     for fut in as_completed(futures):
