@@ -358,7 +358,7 @@ def _safe_svg_tree(data: bytes, source: str):
         raise InvalidGeometryError(f"{source}: malformed SVG (XML: {exc})") from None
 
 
-def _prepare_svg(root, source: str, se) -> tuple[bytes, dict[str, int]]:
+def _prepare_svg(root, source: str) -> tuple[bytes, dict[str, int]]:
     """Check the tree's coordinates, move never-drawn containers into ``<defs>``; return it serialised."""
     from xml.etree import ElementTree as ET
 
@@ -374,12 +374,6 @@ def _prepare_svg(root, source: str, se) -> tuple[bytes, dict[str, int]]:
             if value is not None and _NONFINITE.search(value):
                 raise InvalidGeometryError(f"{source}: NaN or infinite coordinates in the {attr!r} of "
                                            f"{_describe(el)}")
-        if tag == "path" and el.get("d"):
-            try:
-                se.Path(el.get("d"))
-            except (ValueError, IndexError, TypeError):
-                raise InvalidGeometryError(f"{source}: malformed SVG (bad path data in {_describe(el)})") \
-                    from None
         if tag in ("text", "image", "foreignObject"):
             ignored[tag] = ignored.get(tag, 0) + 1
     # <symbol>, <mask>, <marker>, <pattern> and <clipPath> are not drawn where they stand; svgelements
@@ -550,7 +544,8 @@ def fill_rings(rings, rule: str = "nonzero") -> Polygon | MultiPolygon:
     filled = [f for f, k in zip(faces, keep) if k]
     if not filled:
         return Polygon()
-    out = shapely.union_all(filled)
+    # The faces of a polygonization meet only along shared edges: a coverage, united without overlays.
+    out = shapely.coverage_union_all(filled) if len(filled) > 1 else filled[0]
     if not out.is_valid:
         out = shapely.make_valid(out)
     polys = [g for g in shapely.get_parts(out) if isinstance(g, Polygon) and not g.is_empty]
@@ -593,12 +588,19 @@ def read_svg(source, *, flatten: float | None = None) -> Polygon | MultiPolygon:
         raise ValueError(f"flatten must be a positive finite number, got {flatten!r}")
     root = _safe_svg_tree(data, name)
     se = _require("svgelements", "svg", "reading SVG")
-    clean, ignored = _prepare_svg(root, name, se)
+    clean, ignored = _prepare_svg(root, name)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             svg = se.SVG.parse(_stdio.BytesIO(clean), reify=False, on_error="raise")
     except (ValueError, TypeError, IndexError, AttributeError, KeyError, ZeroDivisionError) as exc:
+        for el in root.iter():            # name the culprit when it is path data (the usual one)
+            if _local(el.tag) == "path" and el.get("d"):
+                try:
+                    se.Path(el.get("d"))
+                except (ValueError, IndexError, TypeError):
+                    raise InvalidGeometryError(f"{name}: malformed SVG (bad path data in {_describe(el)})") \
+                        from None
         detail = f"{type(exc).__name__}: {exc}" if str(exc) else type(exc).__name__
         raise InvalidGeometryError(f"{name}: malformed SVG ({detail})") from None
     # The root viewport maps user units to px; undo it so coordinates are the drawing's user units.
@@ -650,7 +652,7 @@ def read_svg(source, *, flatten: float | None = None) -> Polygon | MultiPolygon:
             regions.append(region)
     if not regions:
         raise InvalidGeometryError(f"{name}: the SVG has no closed shape with an area")
-    return _polygonal(shapely.union_all(regions), name)
+    return _polygonal(shapely.union_all(regions) if len(regions) > 1 else regions[0], name)
 
 
 # ---------------------------------------------------------------------------------------------------------
