@@ -511,7 +511,7 @@ def test_writer_failing_halfway(ext, writer, tightening, tmp_path, monkeypatch):
     target = tmp_path / f"out{ext}"
     target.write_bytes(b"old")
 
-    def broken(result, dest, layers):
+    def broken(result, dest, *args):
         if hasattr(dest, "write"):
             dest.write(b"partial")
         else:
@@ -544,3 +544,32 @@ def test_output_mode_is_not_private(tightening, tmp_path):
 def test_missing_output_folder(tightening, tmp_path):
     with pytest.raises(FileNotFoundError):
         io.write_result(tightening, tmp_path / "no" / "t.svg")
+
+
+@pytest.mark.parametrize("attrs, unit", [
+    ('width="210mm" height="297mm" viewBox="0 0 210 297"', "mm"),
+    ('width="10cm" viewBox="0 0 100 50"', "mm"),
+    ('width="2in" viewBox="0 0 2 1"', "in"),
+    ('width="200" viewBox="0 0 200 100"', "px"),
+    ('width="210mm" viewBox="0 0 793.7008 1122.5"', "px"),
+    ('width="210mm" viewBox="0 0 1000 1414"', None),
+    ('viewBox="0 0 10 10"', None),
+    ('width="100%" viewBox="0 0 10 10"', None),
+])
+def test_svg_unit(attrs, unit):
+    assert io.svg_unit(svg("", attrs)) == unit
+
+
+def test_unit_carried_to_svg_and_dxf(tightening, tmp_path):
+    io.write_result(tightening, tmp_path / "t.svg", unit="mm")
+    text = (tmp_path / "t.svg").read_text()
+    vb = re.search(r'viewBox="([^"]+)"', text).group(1).split()
+    assert f'width="{vb[2]}mm"' in text and f'height="{vb[3]}mm"' in text
+    assert io.svg_unit(tmp_path / "t.svg") == "mm"
+    pytest.importorskip("ezdxf")
+    import ezdxf
+
+    io.write_result(tightening, tmp_path / "t.dxf", unit="mm")
+    assert ezdxf.readfile(tmp_path / "t.dxf").header["$INSUNITS"] == 4
+    with pytest.raises(ValueError, match="unknown unit"):
+        io.write_result(tightening, tmp_path / "u.svg", unit="furlong")

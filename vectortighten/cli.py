@@ -272,10 +272,11 @@ def _tighten_file(task: _Task) -> str:
     from .engine import tighten
 
     shape = io.read_shape(task.source, flatten=task.flatten)
+    unit = io.svg_unit(task.source) if task.source.suffix.lower() == ".svg" else None
     result = tighten(shape, task.r, init=task.init, tolerance=task.tolerance)
     if result.is_empty:
         warnings.warn(f"the tightening is empty: every part is thinner than 2r = {2 * task.r:g}", UserWarning)
-    io.write_result(result, task.target, layers=task.layers)
+    io.write_result(result, task.target, layers=task.layers, unit=unit)
     return (f"{task.target}: perimeter {result.perimeter:.6g}, area {result.area:.6g}, "
             f"{result.n_components} component(s), {result.n_holes} hole(s)")
 

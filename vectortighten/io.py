@@ -57,6 +57,7 @@ __all__ = [
     "read_shape",
     "read_svg",
     "svg_document",
+    "svg_unit",
     "write_mask",
     "write_result",
 ]
@@ -655,6 +656,48 @@ def read_svg(source, *, flatten: float | None = None) -> Polygon | MultiPolygon:
     return _polygonal(shapely.union_all(regions) if len(regions) > 1 else regions[0], name)
 
 
+_UNITS_PER_INCH = {"in": 1.0, "mm": 25.4, "cm": 2.54, "pt": 72.0, "pc": 6.0, "px": 96.0}
+_LENGTH = re.compile(r"^\s*([0-9.eE+-]+)\s*(mm|cm|in|pt|pc|px)?\s*$")
+
+
+def svg_unit(source) -> str | None:
+    """The physical unit of one user unit of an SVG drawing, when the root says so plainly.
+
+    ``width="210mm" viewBox="0 0 210 297"`` gives ``"mm"``: coordinates read by `read_svg` are then
+    millimetres, and `write_result` can say so again (``unit=``). Returns None when the root has no
+    ``width``, no ``viewBox``, or they do not make one user unit one whole unit of mm, cm, in, pt, pc
+    or px.
+
+    Examples
+    --------
+    >>> svg_unit(b'<svg xmlns="http://www.w3.org/2000/svg" width="10cm" viewBox="0 0 100 50"/>')
+    'mm'
+    """
+    if isinstance(source, (bytes, bytearray)):
+        data, name = bytes(source), "<svg>"
+    else:
+        name = str(source)
+        data = Path(source).read_bytes()
+    root = _safe_svg_tree(data, name)
+    width, box_ = root.get("width"), root.get("viewBox")
+    if width is None or box_ is None:
+        return None
+    m = _LENGTH.match(width)
+    try:
+        size = float(m.group(1)) if m else math.nan
+        vb_width = float(re.split(r"[\s,]+", box_.strip())[2])
+    except (ValueError, IndexError):
+        return None
+    if not (math.isfinite(size) and size > 0 and math.isfinite(vb_width) and vb_width > 0):
+        return None
+    unit = m.group(2) or "px"
+    for candidate in _UNITS_PER_INCH:                    # e.g. width="10cm" viewBox="0 0 100 ..." is mm
+        ratio = size / _UNITS_PER_INCH[unit] * _UNITS_PER_INCH[candidate] / vb_width
+        if abs(ratio - 1.0) <= 1e-6:
+            return candidate
+    return None
+
+
 # ---------------------------------------------------------------------------------------------------------
 # Writing
 # ---------------------------------------------------------------------------------------------------------
@@ -716,7 +759,12 @@ def _check_layers(layers) -> tuple[str, ...]:
     return layers
 
 
-def svg_document(result, *, layers=()) -> str:
+def _check_unit(unit) -> None:
+    if unit is not None and unit not in _UNITS_PER_INCH:
+        raise ValueError(f"unknown unit {unit!r}; choose from {', '.join(_UNITS_PER_INCH)}")
+
+
+def svg_document(result, *, layers=(), unit: str | None = None) -> str:
     """The SVG document `write_result` writes for a `Tightening`.
 
     The tightening is one ``<path id="tightening">`` with ``fill-rule="evenodd"``, straight ``L`` and
@@ -728,8 +776,12 @@ def svg_document(result, *, layers=()) -> str:
     ----------
     result : Tightening
     layers : iterable of {"input", "core", "mortar"}
+    unit : {"mm", "cm", "in", "pt", "pc", "px"}, optional
+        The physical length of one unit of the shape: sets ``width`` and ``height`` so that the drawing
+        has its true size (see `svg_unit`). Without it the document has no ``width`` and ``height``.
     """
     layers = _check_layers(layers)
+    _check_unit(unit)
     x0, y0, x1, y1 = _bounds(result, layers)
     size = max(x1 - x0, y1 - y0)
     if not (math.isfinite(size) and size > 0):
@@ -741,7 +793,8 @@ def svg_document(result, *, layers=()) -> str:
         '<?xml version="1.0" encoding="UTF-8"?>',
         '<svg xmlns="http://www.w3.org/2000/svg" '
         'xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" version="1.1" '
-        f'viewBox="{" ".join(_num(v) for v in vb)}">',
+        f'viewBox="{" ".join(_num(v) for v in vb)}"'
+        + (f' width="{_num(vb[2])}{unit}" height="{_num(vb[3])}{unit}">' if unit else ">"),
         f"<!-- vectortighten: r={_num(result.r)} init={result.init} perimeter={_num(result.perimeter)} "
         f"area={_num(result.area)} components={result.n_components} holes={result.n_holes}; "
         "coordinates are the shape's with y negated -->",
@@ -771,9 +824,14 @@ def svg_document(result, *, layers=()) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _write_dxf(result, tmp: Path, layers) -> None:
+_DXF_UNITS = {"in": 1, "mm": 4, "cm": 5}    # $INSUNITS codes
+
+
+def _write_dxf(result, tmp: Path, layers, unit=None) -> None:
     ezdxf = _require("ezdxf", "dxf", "writing DXF")
     doc = ezdxf.new("R2010", setup=False)
+    if unit in _DXF_UNITS:
+        doc.header["$INSUNITS"] = _DXF_UNITS[unit]
     msp = doc.modelspace()
     doc.layers.add("TIGHTENING", color=1)
     for loop in result.loops:
@@ -832,7 +890,7 @@ def _write_png(result, f, layers) -> None:
         plt.close(fig)
 
 
-def write_result(result, path, *, layers=()) -> None:
+def write_result(result, path, *, layers=(), unit: str | None = None) -> None:
     """Write a `Tightening` to ``path``, format by extension, atomically.
 
     Parameters
@@ -845,6 +903,9 @@ def write_result(result, path, *, layers=()) -> None:
         ``.png`` (a picture).
     layers : iterable of {"input", "core", "mortar"}
         SVG, DXF and PNG: also draw these, each in its own layer.
+    unit : {"mm", "cm", "in", "pt", "pc", "px"}, optional
+        SVG: the document's ``width`` and ``height`` in this unit (true size); DXF: ``$INSUNITS`` (mm, cm
+        and in only). Typically `svg_unit` of the input.
 
     Raises
     ------
@@ -859,10 +920,11 @@ def write_result(result, path, *, layers=()) -> None:
         raise ValueError(f"{path}: unsupported output format {ext or '(none)'!r}; "
                          f"expected one of {', '.join(WRITE_FORMATS)}")
     layers = _check_layers(layers)
+    _check_unit(unit)
     if ext == ".dxf":
         _require("ezdxf", "dxf", "writing DXF")
         with atomic_path(path) as tmp:
-            _write_dxf(result, tmp, layers)
+            _write_dxf(result, tmp, layers, unit)
         return
     if ext == ".png":
         with atomic_write(path, "wb") as f:
@@ -870,7 +932,7 @@ def write_result(result, path, *, layers=()) -> None:
         return
     geom = result.geometry
     if ext == ".svg":
-        text = svg_document(result, layers=layers)
+        text = svg_document(result, layers=layers, unit=unit)
     elif ext == ".wkt":
         text = shapely.to_wkt(geom, rounding_precision=-1) + "\n"
     else:
