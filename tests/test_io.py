@@ -174,6 +174,13 @@ def test_svg_use_symbol_defs_and_hidden():
     assert same(got, flip(box(10, 10, 12, 12).union(box(20, 20, 23, 23))), 1e-9)
 
 
+def test_svg_nested_svg_viewport():
+    doc = svg('<svg x="10" y="10" width="20" height="20" viewBox="0 0 2 2"><rect width="1" height="1"/>'
+              '<circle cx="1.5" cy="1.5" r="0.25"/></svg>')
+    got = io.read_svg(doc, flatten=1e-4)
+    assert same(got, flip(box(10, 10, 20, 20).union(Point(25, 25).buffer(2.5, quad_segs=256))), 1e-4)
+
+
 def test_svg_text_is_ignored_with_a_warning():
     with pytest.warns(UserWarning, match="text"):
         got = io.read_svg(svg('<rect width="2" height="2"/><text x="5" y="5">hi</text>'))

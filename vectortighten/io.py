@@ -82,6 +82,7 @@ _W3C_DTD = re.compile(r"^(-//W3C//DTD SVG [0-9.]+( Tiny| Basic)?//EN|https?://ww
 _GEOMETRY_ATTRS = ("d", "points", "transform", "x", "y", "cx", "cy", "r", "rx", "ry", "width", "height",
                    "x1", "y1", "x2", "y2", "viewBox")
 _NONFINITE = re.compile(r"(?<![a-z])(nan|inf(inity)?)(?![a-z])", re.IGNORECASE)
+_SVG_URI = "http://www.w3.org/2000/svg"
 # Marks the layers `svg_document` adds besides the tightening; `read_svg` skips them.
 _LAYER_ATTR = "data-vectortighten-layer"
 # Containers whose shapes are not drawn where they stand (only through <use>, or not at all).
@@ -377,23 +378,39 @@ def _prepare_svg(root, source: str) -> tuple[bytes, dict[str, int]]:
                                            f"{_describe(el)}")
         if tag in ("text", "image", "foreignObject"):
             ignored[tag] = ignored.get(tag, 0) + 1
-    # <symbol>, <mask>, <marker>, <pattern> and <clipPath> are not drawn where they stand; svgelements
-    # lists their shapes as if they were. Inside <defs> they are drawn only through <use>, as they should.
     for el in list(root.iter()):
         if el.get(_LAYER_ATTR) is not None and el in parent:      # input/core/mortar drawn by svg_document
             parent[el].remove(el)
-    defs = ET.Element("{http://www.w3.org/2000/svg}defs")
+    # <symbol>, <mask>, <marker>, <pattern> and <clipPath> are not drawn where they stand; svgelements
+    # lists their shapes as if they were. Inside <defs> they are drawn only through <use>, as they should.
+    # A symbol becomes a group (its viewBox is not honoured).
+    defs = ET.Element(f"{{{_SVG_URI}}}defs")
     for el in list(root.iter()):
         tag = _local(el.tag)
+        if tag == "symbol":
+            el.tag = f"{{{_SVG_URI}}}g"
+            for attr in ("viewBox", "preserveAspectRatio", "x", "y", "width", "height", "refX", "refY"):
+                el.attrib.pop(attr, None)
         if tag in _NOT_RENDERED[1:] and el in parent and _local(parent[el].tag) != "defs":
             parent[el].remove(el)
-            if tag == "symbol":
-                el.tag = "{http://www.w3.org/2000/svg}g"
-                for attr in ("viewBox", "preserveAspectRatio", "x", "y", "width", "height", "refX", "refY"):
-                    el.attrib.pop(attr, None)
             defs.append(el)
-        elif tag == "symbol":
-            el.tag = "{http://www.w3.org/2000/svg}g"
+    # svgelements passes a nested <svg>'s x and y on to the shapes inside as theirs: move them into a
+    # translating group.
+    for el in list(root.iter()):
+        if _local(el.tag) != "svg" or el is root or el not in parent:
+            continue
+        try:
+            x, y = float(el.get("x", "0")), float(el.get("y", "0"))   # plain user units only
+        except ValueError:
+            continue
+        if x or y:
+            el.attrib.pop("x", None)
+            el.attrib.pop("y", None)
+            holder = parent[el]
+            wrap = ET.Element(f"{{{_SVG_URI}}}g", {"transform": f"translate({x} {y})"})
+            holder.insert(list(holder).index(el), wrap)
+            holder.remove(el)
+            wrap.append(el)
     if len(defs):
         root.insert(0, defs)
     return ET.tostring(root), ignored
