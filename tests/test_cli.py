@@ -413,3 +413,20 @@ def test_batch_refusal_creates_no_folder(square_wkt, tmp_path, capsys):
     out = tmp_path / "o"
     assert main(["tighten", str(square_wkt), str(square_wkt), "-r", "1", "-o", str(out)]) == 2
     assert not out.exists()
+
+
+def test_svg_in_mm_stays_in_mm(tmp_path):
+    src = tmp_path / "mm.svg"
+    src.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="30mm" height="20mm" viewBox="0 0 30 20">'
+                   '<rect x="5" y="5" width="20" height="10"/></svg>')
+    out = tmp_path / "t.svg"
+    assert main(["tighten", str(src), "-r", "2", "-o", str(out)]) == 0
+    assert io.svg_unit(out) == "mm"
+    back = io.read_svg(out, flatten=1e-5)
+    assert back.area == pytest.approx(200 - (4 - math.pi) * 4, abs=1e-3)
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0 and "vectortighten" in capsys.readouterr().out

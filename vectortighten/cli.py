@@ -38,6 +38,9 @@ formats (by extension):
   out: .svg (exact arcs as A commands), .wkt, .geojson/.json, .dxf (LINE and ARC entities),
        .png (a picture; for a PNG input, the tightened mask)
 
+SVG coordinates are the drawing's user units (R is in them too); an SVG whose root says
+width="210mm" viewBox="0 0 210 297" is in mm, and SVG and DXF outputs say so again.
+
 several inputs, or a folder, write one output per input into the folder OUT, named after
 the input with the extension of --format (default: the input's own). A file that fails is
 reported on one line and the others go on; the exit code is then 2.
@@ -470,6 +473,9 @@ def _parser() -> argparse.ArgumentParser:
         epilog=_EPILOG_MAIN,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    from . import __version__
+
+    parser.add_argument("--version", action="version", version=f"vectortighten {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=_Parser)
     for add, _ in COMMANDS.values():
         add(sub)
