@@ -247,6 +247,7 @@ def test_svg_attacks_refused(doc, needle):
     (svg('<rect width="2" height="2" transform="scale(nan)"/>'), "NaN"),
     (svg('<path d="M 0 0 L 1e400 1 L 2 2 Z"/>'), "infinite"),
     (svg(""), "no shapes"),
+    (svg("<g>" * 3000 + '<rect width="1" height="1"/>' + "</g>" * 3000), "nested too deeply"),
     (svg('<path d="M 0 0 L 10 0"/>'), "no closed shape"),
 ])
 def test_svg_malformed(doc, needle):

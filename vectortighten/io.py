@@ -604,6 +604,13 @@ def read_svg(source, *, flatten: float | None = None) -> Polygon | MultiPolygon:
         data = Path(source).read_bytes()
     if flatten is not None and not (math.isfinite(flatten) and flatten > 0):
         raise ValueError(f"flatten must be a positive finite number, got {flatten!r}")
+    try:
+        return _read_svg(data, name, flatten)
+    except RecursionError:
+        raise InvalidGeometryError(f"{name}: malformed SVG (elements nested too deeply)") from None
+
+
+def _read_svg(data: bytes, name: str, flatten: float | None) -> Polygon | MultiPolygon:
     root = _safe_svg_tree(data, name)
     se = _require("svgelements", "svg", "reading SVG")
     clean, ignored = _prepare_svg(root, name)
@@ -643,7 +650,7 @@ def read_svg(source, *, flatten: float | None = None) -> Polygon | MultiPolygon:
         shapes.append((path, m, smax, "evenodd" if rule == "evenodd" else "nonzero"))
     for tag, count in ignored.items():
         warnings.warn(f"{name}: {count} <{tag}> element(s) ignored (convert text and images to paths)",
-                      UserWarning, stacklevel=2)
+                      UserWarning, stacklevel=3)
     if not shapes:
         raise InvalidGeometryError(f"{name}: no shapes found in the SVG")
     if flatten is None:
