@@ -451,6 +451,8 @@ def test_dxf_arcs_of_radius_r_in_closed_chains(tightening, tmp_path):
     assert length == pytest.approx(tightening.perimeter, rel=1e-9)
     assert _count_cycles(ends, 1e-9 * 60) == len(tightening.loops)
     assert {e.dxf.layer for e in doc.modelspace()} == {"TIGHTENING"}
+    auditor = doc.audit()
+    assert not auditor.has_errors
 
 
 def test_dxf_clockwise_arcs(tmp_path):

@@ -353,7 +353,8 @@ def _safe_svg_tree(data: bytes, source: str):
         kind = "an external entity" if exc.sysid else "an entity"
         raise InvalidGeometryError(
             f"{source}: refused: the SVG declares {kind} ({exc.name!r}); entity expansion "
-            "(billion laughs) and external entities (XXE) are not allowed") from None
+            "(billion laughs) and external entities (XXE) are not allowed; save it as plain SVG without a "
+            "DOCTYPE") from None
     except dx.DefusedXmlException as exc:
         raise InvalidGeometryError(f"{source}: refused: {exc}") from None
     except ParseError as exc:
