@@ -1,32 +1,83 @@
 """The ``vectortighten`` command line.
 
 Every failure a user can cause (a missing file, malformed input, a bad radius, a missing output folder)
-ends with exit code 2 and one line on stderr; a traceback means a bug in vectortighten.
+ends with exit code 2 and one line on stderr, never a traceback. An internal error (a bug) also prints one
+line and exits with code 1; set ``VECTORTIGHTEN_DEBUG=1`` to see its traceback.
+
+Subcommands live in `COMMANDS`: each is a pair of functions, one that adds its sub-parser and one that
+runs it and returns the exit code. Adding a subcommand is adding an entry.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
+import multiprocessing
+import os
 import sys
+import warnings
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["main"]
+__all__ = ["COMMANDS", "main"]
 
 _EPILOG_MAIN = """\
 examples:
   vectortighten demo -o demo-out
-  vectortighten tighten shape.wkt -r 2 -o tight.geojson
-  python -m vectortighten tighten shape.geojson -r 0.5 --init input -o tight.wkt
+  vectortighten tighten shape.svg -r 2 -o tight.svg
+  vectortighten tighten shape.wkt -r 2 -o tight.dxf --init input
+  vectortighten tighten drawings/ -r 0.5 -o out/ --format svg --jobs 4
+  python -m vectortighten tighten --help
 """
+
+_EPILOG_TIGHTEN = """\
+formats (by extension):
+  in:  .svg (paths, curves, arcs, basic shapes, transforms, fill-rule nonzero/evenodd),
+       .wkt, .geojson/.json (geometry, Feature, FeatureCollection), .png (a mask: the pixel method)
+  out: .svg (exact arcs as A commands), .wkt, .geojson/.json, .dxf (LINE and ARC entities),
+       .png (a picture; for a PNG input, the tightened mask)
+
+SVG coordinates are the drawing's user units (R is in them too); an SVG whose root says
+width="210mm" viewBox="0 0 210 297" is in mm, and SVG and DXF outputs say so again.
+
+several inputs, or a folder, write one output per input into the folder OUT, named after
+the input with the extension of --format (default: the input's own). A file that fails is
+reported on one line and the others go on; the exit code is then 2.
+
+examples:
+  vectortighten tighten shape.svg -r 2 -o tight.svg
+  vectortighten tighten shape.svg -r 2 -o tight.svg --layers input,core,mortar
+  vectortighten tighten part.geojson -r 0.5 --init input -o part.dxf
+  vectortighten tighten shape.svg -r 2 --flatten 0.001 --tolerance 0.0001 -o tight.wkt
+  vectortighten tighten a.svg b.wkt c.geojson -r 1 -o out/ --format svg
+  vectortighten tighten drawings/ -r 1 -o out/ --jobs 4 --progress
+  vectortighten tighten mask.png -r 8 -o tight.png
+"""
+
+_EPILOG_DEMO = """\
+examples:
+  vectortighten demo -o demo-out
+  vectortighten demo -o demo-out -r 3
+"""
+
+_VECTOR_IN = (".svg", ".wkt", ".geojson", ".json")
+_ALL_IN = _VECTOR_IN + (".png",)
+_VECTOR_OUT = (".svg", ".wkt", ".geojson", ".json", ".dxf", ".png")
 
 
 class UsageError(Exception):
     """A mistake in what the user asked for: reported as one line, exit code 2."""
 
 
-def _positive_float(text: str) -> float:
-    import math
+class _Parser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line on stderr (and exit code 2), not the usage block."""
 
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _positive_float(text: str) -> float:
     try:
         value = float(text)
     except ValueError:
@@ -36,94 +87,424 @@ def _positive_float(text: str) -> float:
     return value
 
 
-def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="vectortighten",
-        description="Exact r-tightening of planar shapes: segments and circular arcs of radius r.",
-        epilog=_EPILOG_MAIN,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+def _unit_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not 0 <= value <= 1:
+        raise argparse.ArgumentTypeError(f"must be between 0 and 1, got {text}")
+    return value
 
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {text}")
+    return value
+
+
+def _layers(text: str) -> tuple[str, ...]:
+    from .io import LAYERS
+
+    names = tuple(n.strip() for n in text.split(",") if n.strip())
+    bad = [n for n in names if n not in LAYERS]
+    if bad:
+        raise argparse.ArgumentTypeError(f"unknown layer {bad[0]!r}; choose from {','.join(LAYERS)}")
+    return names
+
+
+def _format(text: str) -> str:
+    ext = "." + text.lower().lstrip(".")
+    if ext not in _VECTOR_OUT:
+        raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(e[1:] for e in _VECTOR_OUT)}")
+    return ext
+
+
+# ---------------------------------------------------------------------------------------------------------
+# demo
+# ---------------------------------------------------------------------------------------------------------
+def _add_demo(sub) -> None:
     demo = sub.add_parser("demo", help="tighten the embedded example and draw it (SVG and PNG)",
-                          description="Tighten the embedded example shape and write demo.svg and demo.png.")
+                          description="Tighten the embedded example shape and write demo.svg and demo.png.",
+                          epilog=_EPILOG_DEMO, formatter_class=argparse.RawDescriptionHelpFormatter)
     demo.add_argument("-o", "--output", required=True, type=Path, metavar="DIR",
                       help="folder to write into (created if its parent exists)")
     demo.add_argument("-r", "--radius", type=_positive_float, default=None,
                       help="radius (default: the demo's own, 2)")
 
-    tight = sub.add_parser(
-        "tighten", help="tighten a shape read from a file",
-        description="Tighten the shape in IN with radius R and write it to OUT (format by extension).",
-        epilog="examples:\n  vectortighten tighten shape.wkt -r 2 -o tight.geojson\n",
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    tight.add_argument("input", type=Path, metavar="IN", help="input file (.wkt, .geojson, .json)")
-    tight.add_argument("-r", "--radius", type=_positive_float, required=True, metavar="R",
-                       help="the tightening radius, in the input's units")
-    tight.add_argument("-o", "--output", type=Path, required=True, metavar="OUT",
-                       help="output file (.wkt, .geojson, .json)")
-    tight.add_argument("--init", choices=("core", "input", "mason"), default="core",
-                       help="initial condition of the flow (default: core, the paper's)")
-    tight.add_argument("--tolerance", type=_positive_float, default=None, metavar="T",
-                       help="largest distance between an arc and its chords in the output (default 1e-5·R)")
-    return parser
 
-
-def _cmd_demo(args) -> int:
-    from .demo import DEMO_RADIUS, run_demo
-
-    out: Path = args.output
+def _out_folder(out: Path) -> None:
+    """Make sure ``out`` is a folder: create it (one level) if its parent exists."""
     if not out.exists():
         if not out.parent.exists():
             raise UsageError(f"cannot create {str(out)!r}: folder {str(out.parent)!r} does not exist")
         out.mkdir()
     elif not out.is_dir():
         raise UsageError(f"{str(out)!r} exists and is not a folder")
-    for path in run_demo(out, r=args.radius or DEMO_RADIUS):
+
+
+def _cmd_demo(args) -> int:
+    from .demo import DEMO_RADIUS, run_demo
+
+    _out_folder(args.output)
+    for path in run_demo(args.output, r=args.radius or DEMO_RADIUS):
         print(path)
     return 0
 
 
-def _cmd_tighten(args) -> int:
+# ---------------------------------------------------------------------------------------------------------
+# tighten
+# ---------------------------------------------------------------------------------------------------------
+def _add_tighten(sub) -> None:
+    tight = sub.add_parser(
+        "tighten", help="tighten shapes read from files",
+        description="Tighten the shape in each IN with radius R and write it to OUT (format by extension).",
+        epilog=_EPILOG_TIGHTEN, formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    tight.add_argument("inputs", type=Path, nargs="+", metavar="IN",
+                       help="input file(s) or a folder of them (.svg, .wkt, .geojson, .json, .png)")
+    tight.add_argument("-r", "--radius", type=_positive_float, required=True, metavar="R",
+                       help="the tightening radius, in the input's units (pixels for a PNG)")
+    tight.add_argument("-o", "--output", type=Path, required=True, metavar="OUT",
+                       help="output file; a folder for several inputs (created if its parent exists)")
+    tight.add_argument("--init", choices=("core", "input", "mason"), default="core",
+                       help="initial condition of the flow (default: core, the paper's)")
+    tight.add_argument("--tolerance", type=_positive_float, default=None, metavar="T",
+                       help="largest distance between an arc and its chords in sampled outputs "
+                            "(WKT, GeoJSON, PNG; default 1e-5·R)")
+    tight.add_argument("--flatten", type=_positive_float, default=None, metavar="F",
+                       help="SVG input: largest distance between a curve and its chords "
+                            "(default 1e-4 of the drawing's diagonal)")
+    tight.add_argument("--format", type=_format, default=None, metavar="EXT",
+                       help="output format for a folder OUT: svg, wkt, geojson, json, dxf or png "
+                            "(default: the input's)")
+    tight.add_argument("--layers", type=_layers, default=(), metavar="L,L",
+                       help="SVG, DXF and PNG output: also draw input, core and/or mortar, e.g. "
+                            "--layers input,core,mortar")
+    tight.add_argument("--threshold", type=_unit_float, default=0.5, metavar="V",
+                       help="PNG input: pixels brighter than V (0..1) belong to the shape (default 0.5)")
+    tight.add_argument("-j", "--jobs", type=_positive_int, default=None, metavar="N",
+                       help="processes for several inputs (default: all cores)")
+    tight.add_argument("--progress", action="store_true",
+                       help="show a progress bar on stderr (shown anyway when stderr is a terminal)")
+
+
+@dataclass(frozen=True)
+class _Task:
+    """One input to tighten into one output, with the options of the run (picklable)."""
+
+    source: Path
+    target: Path
+    r: float
+    init: str
+    tolerance: float | None
+    flatten: float | None
+    layers: tuple[str, ...]
+    threshold: float
+
+
+@dataclass
+class _Outcome:
+    """What a task produced: a summary line, warnings, or an error line (``internal`` for a bug)."""
+
+    task: _Task
+    summary: str = ""
+    warnings: list[str] = field(default_factory=list)
+    error: str | None = None
+    internal: bool = False
+
+
+def _error_text(exc: BaseException) -> str:
+    if isinstance(exc, OSError) and exc.filename is not None:
+        return f"{exc.strerror or exc}: {exc.filename}"
+    return str(exc) or type(exc).__name__
+
+
+def _user_errors():
+    from .errors import TighteningError
+    from .io import MissingDependencyError
+
+    return (UsageError, TighteningError, MissingDependencyError, ValueError, TypeError, OSError)
+
+
+def _prefixed(path: Path, message: str) -> str:
+    """Name the input in the message unless it already does."""
+    return message if str(path) in message else f"{path}: {message}"
+
+
+def _run_task(task: _Task) -> _Outcome:
+    """Read, tighten and write one file; never raises (errors come back in the outcome)."""
+    outcome = _Outcome(task)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            outcome.summary = _tighten_file(task)
+        except _user_errors() as exc:
+            outcome.error = _prefixed(task.source, _error_text(exc))
+        except MemoryError:
+            outcome.error = f"{task.source}: out of memory"
+        except Exception as exc:  # a bug: report it on one line and let the other files go on
+            if os.environ.get("VECTORTIGHTEN_DEBUG"):
+                raise
+            outcome.error = (f"{task.source}: internal error ({type(exc).__name__}: {exc}); "
+                             "please report it with this input")
+            outcome.internal = True
+    seen = set()
+    for w in caught:
+        text = _prefixed(task.source, str(w.message))
+        if text not in seen:
+            seen.add(text)
+            outcome.warnings.append(text)
+    return outcome
+
+
+def _tighten_file(task: _Task) -> str:
     from . import io
+
+    _check_output_format(task.source, task.target)
+    if task.source.suffix.lower() == ".png":
+        raster = io._raster("load_mask", "save_mask", "tighten")
+        mask = io.read_mask(task.source, threshold=task.threshold)
+        result = raster.tighten(mask, task.r, init=task.init)
+        io.write_mask(result.mask, task.target)
+        return f"{task.target}: {int(result.mask.sum())} pixel(s) set of {result.mask.size}"
     from .engine import tighten
 
-    if args.output.resolve() == args.input.resolve():
-        raise UsageError(f"refusing to overwrite the input {str(args.input)!r}")
-    shape = io.read_shape(args.input)
-    result = tighten(shape, args.radius, init=args.init, tolerance=args.tolerance)
-    io.write_result(result, args.output)
-    print(f"{args.output}: perimeter {result.perimeter:.6g}, area {result.area:.6g}, "
-          f"{result.n_components} component(s), {result.n_holes} hole(s)")
+    shape = io.read_shape(task.source, flatten=task.flatten)
+    unit = io.svg_unit(task.source) if task.source.suffix.lower() == ".svg" else None
+    result = tighten(shape, task.r, init=task.init, tolerance=task.tolerance)
+    if result.is_empty:
+        warnings.warn(f"the tightening is empty: every part is thinner than 2r = {2 * task.r:g}", UserWarning)
+    io.write_result(result, task.target, layers=task.layers, unit=unit)
+    return (f"{task.target}: perimeter {result.perimeter:.6g}, area {result.area:.6g}, "
+            f"{result.n_components} component(s), {result.n_holes} hole(s)")
+
+
+def _expand_inputs(inputs: list[Path]) -> tuple[list[Path], bool]:
+    """The input files (a folder gives its supported files) and whether this is a batch."""
+    files: list[Path] = []
+    batch = len(inputs) > 1
+    for p in inputs:
+        if p.is_dir():
+            batch = True
+            found = sorted(q for q in p.iterdir()
+                           if q.is_file() and not q.name.startswith(".") and q.suffix.lower() in _ALL_IN)
+            if not found:
+                raise UsageError(f"no input files ({', '.join(_ALL_IN)}) in folder {str(p)!r}")
+            files += found
+        else:
+            files.append(p)
+    return files, batch
+
+
+def _check_output_format(source: Path, target: Path) -> None:
+    ext = target.suffix.lower()
+    if source.suffix.lower() == ".png":
+        if ext != ".png":
+            raise UsageError(f"{source}: a PNG mask is tightened by the pixel method and written as .png, "
+                             f"not {ext or '(no extension)'}")
+    elif ext not in _VECTOR_OUT:
+        raise UsageError(f"{target}: unsupported output format {ext or '(none)'!r}; "
+                         f"expected one of {', '.join(_VECTOR_OUT)}")
+
+
+def _plan(args) -> tuple[list[_Task], bool]:
+    """The tasks of a ``tighten`` run, every output checked against every input."""
+    files, batch = _expand_inputs(args.inputs)
+    out: Path = args.output
+    if not batch and out.is_dir():
+        batch = True
+    opts = dict(r=args.radius, init=args.init, tolerance=args.tolerance, flatten=args.flatten,
+                layers=args.layers, threshold=args.threshold)
+    if batch:
+        if out.exists() and not out.is_dir():
+            raise UsageError(f"{str(out)!r} exists and is not a folder")
+        targets = []
+        for f in files:
+            ext = args.format or (f.suffix.lower() if f.suffix.lower() in _VECTOR_OUT + (".png",) else ".svg")
+            targets.append(out / (f.stem + ext))
+    else:
+        if args.format and out.suffix.lower() != args.format:
+            raise UsageError(f"--format {args.format[1:]} disagrees with the output {str(out)!r}")
+        targets = [out]
+    resolved_in = {}
+    for f in files:
+        try:
+            resolved_in[f.resolve()] = f
+        except OSError:
+            pass
+    seen: dict[Path, Path] = {}
+    tasks = []
+    for f, t in zip(files, targets):
+        rt = t.resolve()
+        hit = resolved_in.get(rt) or next((g for g in files if _same_file(g, t)), None)
+        if hit is not None:
+            raise UsageError(f"refusing to overwrite the input {str(hit)!r}")
+        if rt in seen:
+            raise UsageError(f"{str(seen[rt])!r} and {str(f)!r} would both be written to {str(t)!r}")
+        seen[rt] = f
+        tasks.append(_Task(f, t, **opts))
+    if batch:
+        _out_folder(out)
+    return tasks, batch
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    """Whether two existing paths are the same file (hard links included)."""
+    try:
+        return a.exists() and b.exists() and os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+class _Progress:
+    """A one-line progress bar on stderr, redrawn in place; other lines are printed above it."""
+
+    def __init__(self, total: int, enabled: bool, stream=None):
+        self.total, self.done, self.enabled = total, 0, enabled
+        self.stream = stream or sys.stderr
+        self._drawn = False
+        self.draw()
+
+    def draw(self) -> None:
+        if not self.enabled:
+            return
+        width = 30
+        filled = width * self.done // max(1, self.total)
+        self.stream.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total}")
+        self.stream.flush()
+        self._drawn = True
+
+    def clear(self) -> None:
+        if self.enabled and self._drawn:
+            self.stream.write("\r" + " " * 50 + "\r")
+            self._drawn = False
+
+    def line(self, text: str, stream=None) -> None:
+        """Print one line (to ``stream``, stderr by default) without breaking the bar."""
+        self.clear()
+        print(text, file=stream or self.stream, flush=True)
+        self.draw()
+
+    def step(self) -> None:
+        self.done += 1
+        self.draw()
+
+    def close(self) -> None:
+        if self.enabled and self._drawn:
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+def _report(outcome: _Outcome, progress: _Progress) -> None:
+    for w in outcome.warnings:
+        progress.line(f"vectortighten: warning: {w}")
+    if outcome.error is not None:
+        progress.line(f"vectortighten: error: {outcome.error}")
+    else:
+        progress.line(outcome.summary, stream=sys.stdout)
+
+
+def _cmd_tighten(args) -> int:
+    tasks, batch = _plan(args)
+    if not batch:
+        outcome = _run_task(tasks[0])
+        for w in outcome.warnings:
+            print(f"vectortighten: warning: {w}", file=sys.stderr)
+        if outcome.error is not None:
+            print(f"vectortighten: error: {outcome.error}", file=sys.stderr)
+            return 1 if outcome.internal else 2
+        print(outcome.summary)
+        return 0
+    jobs = min(args.jobs or os.cpu_count() or 1, len(tasks))
+    progress = _Progress(len(tasks), enabled=args.progress or sys.stderr.isatty())
+    outcomes: list[_Outcome] = []
+    try:
+        if jobs == 1:
+            for task in tasks:
+                outcomes.append(_run_task(task))
+                _report(outcomes[-1], progress)
+                progress.step()
+        else:
+            # Fresh interpreters, not forks: safe whatever threads the parent runs, the same on every OS.
+            context = multiprocessing.get_context("spawn")
+            with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
+                futures = {pool.submit(_run_task, task): task for task in tasks}
+                try:
+                    for fut in as_completed(futures):
+                        try:
+                            outcome = fut.result()
+                        except Exception as exc:  # the worker process died (killed, out of memory)
+                            outcome = _Outcome(futures[fut], error=f"{futures[fut].source}: the worker "
+                                               f"process failed ({type(exc).__name__}: {exc})", internal=True)
+                        outcomes.append(outcome)
+                        _report(outcome, progress)
+                        progress.step()
+                except BaseException:
+                    pool.shutdown(wait=False, cancel_futures=True)
+                    raise
+    finally:
+        progress.close()
+    failed = [o for o in outcomes if o.error is not None]
+    if failed:
+        print(f"vectortighten: {len(failed)} of {len(tasks)} file(s) failed", file=sys.stderr)
+        return 2 if any(not o.internal for o in failed) else 1
     return 0
 
 
-_COMMANDS = {"demo": _cmd_demo, "tighten": _cmd_tighten}
+# ---------------------------------------------------------------------------------------------------------
+# Dispatch
+# ---------------------------------------------------------------------------------------------------------
+#: Subcommands: name -> (add its sub-parser to the ``add_subparsers`` object, run it and return the code).
+COMMANDS = {
+    "demo": (_add_demo, _cmd_demo),
+    "tighten": (_add_tighten, _cmd_tighten),
+}
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = _Parser(
+        prog="vectortighten",
+        description="Exact r-tightening of planar shapes: segments and circular arcs of radius r.",
+        epilog=_EPILOG_MAIN,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    from . import __version__
+
+    parser.add_argument("--version", action="version", version=f"vectortighten {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=_Parser)
+    for add, _ in COMMANDS.values():
+        add(sub)
+    return parser
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit code (0 on success, 2 on a user error).
+    """Run the command line; returns the exit code (0 on success, 2 on a user error, 1 on a bug).
 
     Examples
     --------
     >>> main(["tighten", "no-such-file.wkt", "-r", "1", "-o", "out.wkt"])
     2
     """
-    from .errors import TighteningError
-
     args = _parser().parse_args(argv)
     try:
-        return _COMMANDS[args.command](args)
-    except (UsageError, TighteningError, ValueError, TypeError, OSError) as exc:
-        message = str(exc) or type(exc).__name__
-        if isinstance(exc, OSError) and exc.filename is not None:
-            message = f"{exc.strerror or exc}: {exc.filename}"
-        print(f"vectortighten: error: {message}", file=sys.stderr)
+        return COMMANDS[args.command][1](args)
+    except _user_errors() as exc:
+        print(f"vectortighten: error: {_error_text(exc)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("vectortighten: interrupted", file=sys.stderr)
         return 130
+    except Exception as exc:
+        if os.environ.get("VECTORTIGHTEN_DEBUG"):
+            raise
+        print(f"vectortighten: internal error ({type(exc).__name__}: {exc}); please report it",
+              file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":  # pragma: no cover
