@@ -1,0 +1,232 @@
+"""The pixel path: exact-EDT morphology, the constrained curvature flow, rasterising and contours, PNGs."""
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from shapely.geometry import Point, box
+
+import raster
+import vectortighten as vt
+
+YY, XX = np.mgrid[:160, :160]
+
+
+def square(half=50, cx=80, cy=80):
+    return (abs(XX - cx) < half) & (abs(YY - cy) < half)
+
+
+def disk(rad, cx=80, cy=80):
+    return np.hypot(XX - cx, YY - cy) < rad
+
+
+@st.composite
+def masks(draw):
+    """Random unions of boxes and disks on a 64 × 64 image, with a blank border."""
+    m = np.zeros((64, 64), bool)
+    yy, xx = np.mgrid[:64, :64]
+    for _ in range(draw(st.integers(1, 5))):
+        x, y = draw(st.integers(6, 58)), draw(st.integers(6, 58))
+        a, b = draw(st.integers(1, 16)), draw(st.integers(1, 16))
+        if draw(st.booleans()):
+            m |= (abs(xx - x) <= a) & (abs(yy - y) <= b)
+        else:
+            m |= np.hypot(xx - x, yy - y) < a
+    m[:2], m[-2:], m[:, :2], m[:, -2:] = False, False, False, False
+    return m
+
+
+# -- morphology --------------------------------------------------------------------------------------------
+@settings(max_examples=40, deadline=None)
+@given(masks(), st.sampled_from([1.5, 3.0, 4.5, 8.0]))
+def test_morphology_relations_exact(m, r):
+    R, F = raster.core(m, r), raster.fillet(m, r)
+    assert (R <= m).all() and (m <= F).all()
+    assert (raster.mortar(m, r) == (F & ~R)).all()
+    # Duality under complement, pixel for pixel.
+    assert (raster.core(~m, r) == raster.anticore(m, r)).all()
+    assert (raster.shrink(~m, r) == ~raster.grow(m, r)).all()
+    # Idempotence of opening and closing.
+    assert (raster.core(R, r) == R).all() and (raster.fillet(F, r) == F).all()
+
+
+def test_grow_shrink_against_brute_force():
+    rng = np.random.default_rng(3)
+    m = rng.random((20, 24)) < 0.3
+    r = 2.5
+    ys, xs = np.nonzero(m)
+    yy, xx = np.mgrid[:20, :24]
+    d_in = np.min(np.hypot(yy[..., None] - ys, xx[..., None] - xs), axis=-1)
+    assert (raster.grow(m, r) == (d_in < r)).all()
+    # Shrink: beyond the image counts as the nearest border pixel (edge replication).
+    big = np.pad(m, 5, mode="edge")
+    ys, xs = np.nonzero(~big)
+    yy, xx = np.mgrid[:30, :34]
+    d_out = np.min(np.hypot(yy[..., None] - ys, xx[..., None] - xs), axis=-1)[5:-5, 5:-5]
+    assert (raster.shrink(m, r) == (d_out >= r)).all()
+
+
+def test_core_of_square_has_round_corners():
+    m = square(50)                       # 99 × 99 pixels
+    r = 20
+    R = raster.core(m, r)
+    # A pixel at a corner is in the core exactly when it is within r of the corner disk's centre.
+    cx, cy = 31 + r - 1, 31 + r - 1      # the shrink's corner pixel is 19 pixels in from the edge pixel 31
+    for y, x in [(31, 31), (33, 33), (36, 36), (40, 40), (31, 50), (50, 31)]:
+        inside_disk = math.hypot(x - cx, y - cy) < r or x >= cx and y >= cy - r + 1 or y >= cy and x >= cx - r + 1
+        assert R[y, x] == inside_disk, (y, x)
+
+
+# -- the flow ----------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("init", ["core", "input", "mason"])
+def test_core_and_anticore_never_change(init):
+    m = square(50) | (abs(XX - 140) < 15) & (abs(YY - 80) < 3)    # a square with a thin bar
+    m &= ~disk(4, 60, 60)                                          # and a small hole
+    T = raster.tighten(m, 12, init=init)
+    assert (T.core <= T.mask).all() and (T.mask <= T.fillet).all()
+    assert (T.phi[T.core] < 0).all() and (T.phi[~T.fillet] > 0).all()
+
+
+def test_disk_larger_than_r_stays():
+    m = disk(40)
+    T = raster.tighten(m, 15)
+    assert (T.mask == m).all()
+
+
+def test_square_corners_become_arcs_of_radius_r():
+    """The square's tightening is its core: its traced corners are arcs of radius r within half a pixel."""
+    m = square(50)                           # pixels 31..129
+    r = 20.0
+    T = raster.tighten(m, r)
+    # The core is already tight: the flow only smooths its pixel staircase, by one pixel at most.
+    edge = raster.grow(T.core, 1.5) & ~raster.shrink(T.core, 1.5)
+    assert ((T.mask ^ T.core) <= edge).all()
+    poly = raster.contours(T)                # x = column, y = −row
+    xy = shapely.get_coordinates(poly.exterior)
+    # The corner disks are centred on the shrink's corner pixels, 50 and 110 (20 pixels in from the
+    # outside pixels 30 and 130).
+    for cx, cy in [(50, 50), (110, 50), (50, 110), (110, 110)]:
+        sx, sy = np.sign(cx - 80), np.sign(cy - 80)
+        sel = (sx * (xy[:, 0] - cx) > 0) & (sy * (-xy[:, 1] - cy) > 0)
+        d = np.hypot(xy[sel, 0] - cx, -xy[sel, 1] - cy)
+        assert sel.sum() > 20 and np.abs(d - r).max() < 0.5
+    # Against the continuous rounded square that the pixels sample: within the pixel-centre offset of the
+    # discrete shrink (½ pixel along each axis at a corner) plus the tracing, 1.5 pixels.
+    exact = vt.core(box(30.5, -129.5, 129.5, -30.5), r)
+    assert poly.hausdorff_distance(exact) < 1.5
+
+
+def test_thin_bar_and_small_hole_vanish():
+    m = np.zeros((100, 200), bool)
+    m[20:80, 20:80] = m[20:80, 120:180] = True
+    m[47:53, 80:120] = True                  # a bar 6 px thick, r = 10
+    m[45:50, 45:50] = False                  # a hole 5 px wide
+    for init in ("core", "input", "mason"):
+        T = raster.tighten(m, 10, init=init)
+        assert not T.mask[47:53, 90:110].any(), init
+        assert T.mask[45:50, 45:50].all(), init
+
+
+@pytest.mark.parametrize("init", ["input", "mason"])
+def test_self_dual_pixel_for_pixel(init):
+    m = square(45) | disk(25, 120, 120)
+    m &= ~disk(6, 70, 70)
+    m[75:85, 20:140] = False                 # a slot
+    a = raster.tighten(m, 9, init=init).mask
+    b = raster.tighten(~m, 9, init=init).mask
+    assert (a == ~b).all()
+
+
+def test_multiscale_and_single_scale_agree_within_a_pixel():
+    m = square(40) | disk(22, 125, 125)
+    r = 16
+    multi = raster.tighten(m, r)
+    single = raster.tighten(m, r, levels=1, iterations=400)
+    assert multi.levels > 1 and single.levels == 1
+    A, B = raster.contours(multi), raster.contours(single)
+    assert A.hausdorff_distance(B) <= 1.0
+
+
+def test_huge_r_gives_empty_mask():
+    T = raster.tighten(disk(10), 50)
+    assert not T.mask.any()
+
+
+def test_timings_and_iterations_reported():
+    T = raster.tighten(square(50), 20)
+    assert len(T.iterations) == T.levels == raster.default_levels(20)
+    assert {"morphology", "init", "total", "flow level 0"} <= set(T.timings)
+
+
+@pytest.mark.parametrize("bad, message", [
+    (np.zeros((3, 3, 3), bool), "2-D"),
+    (np.zeros((0, 5), bool), "empty"),
+    (np.zeros((5, 5), bool), "no True pixel"),
+    (np.ones((5, 5), bool), "True everywhere"),
+    (np.full((5, 5), 0.5), "not binary"),
+])
+def test_bad_masks(bad, message):
+    with pytest.raises(ValueError, match=message):
+        raster.tighten(bad, 2)
+
+
+@pytest.mark.parametrize("r", [0, -1, float("nan"), float("inf")])
+def test_bad_radius(r):
+    with pytest.raises(ValueError, match="r must be"):
+        raster.tighten(square(), r)
+
+
+def test_input_not_modified():
+    m = square(40).astype(np.uint8)
+    before = m.copy()
+    raster.tighten(m, 10, init="input")
+    assert (m == before).all()
+
+
+# -- vectors and files -------------------------------------------------------------------------------------
+def test_rasterize_and_contours_round_trip():
+    P = Point(0, 0).buffer(10, quad_segs=64).difference(box(-3, -3, 3, 3))
+    m, grid = raster.rasterize(P, pixel_size=0.25, margin=1.0)
+    ys, xs = np.nonzero(m)
+    x, y = grid.to_world(ys, xs)
+    assert shapely.contains_xy(P, x, y).all()
+    assert m.sum() == pytest.approx(P.area / 0.25 ** 2, rel=0.01)
+    back = raster.contours(m, grid)
+    assert back.hausdorff_distance(P) < 0.25
+    assert back.geom_type == "Polygon" and len(back.interiors) == 1
+
+
+def test_rasterize_matches_contains_xy():
+    P = shapely.Polygon([(0, 0), (7.3, 1.1), (3.2, 6.9), (2.0, 2.5), (-1.7, 4.4)])
+    m, grid = raster.rasterize(P, pixel_size=0.1, margin=0.5)
+    rows, cols = np.indices(m.shape)
+    x, y = grid.to_world(rows, cols)
+    ref = shapely.contains_xy(P, x, y)
+    # Only centres on an edge (where contains_xy says outside) may differ.
+    rows, cols = np.nonzero(m != ref)
+    assert shapely.distance(P.exterior, shapely.points(x[rows, cols], y[rows, cols])).max() < 1e-12
+    assert (m != ref).sum() < 10
+
+
+def test_png_round_trip_and_threshold(tmp_path):
+    m = square(30)
+    path = tmp_path / "m.png"
+    raster.save_mask(path, m)
+    assert (raster.load_mask(path) == m).all()
+    assert (raster.load_mask(path, invert=True) == ~m).all()
+    from PIL import Image
+    grey = np.full((4, 4), 100, np.uint8)
+    grey[0, 0] = 200
+    Image.fromarray(grey).save(tmp_path / "g.png")
+    assert raster.load_mask(tmp_path / "g.png").sum() == 1          # 200/255 ≥ ½, 100/255 < ½
+
+
+def test_png_errors(tmp_path):
+    (tmp_path / "bad.png").write_bytes(b"not a png")
+    with pytest.raises(ValueError, match="not an image"):
+        raster.load_mask(tmp_path / "bad.png")
+    with pytest.raises(FileNotFoundError):
+        raster.save_mask(tmp_path / "no" / "m.png", square())
