@@ -7,7 +7,8 @@ motion with the opposite sign of Φ). The speed is zero in the core and the anti
 and outside. The steps follow the paper:
 
 * Φ starts as the signed distance to the boundary of the initial set (the core, the input, or Mason(M)),
-  from exact Euclidean distance transforms, ±½ pixel so that no pixel sits on the front;
+  from exact Euclidean distance transforms, ±½ pixel so that no pixel sits on the front; in the core and
+  the anticore, where it never changes, it is the signed distance to their own edges;
 * κ|∇Φ| from two passes of central differences: the unit normal field, then its divergence;
 * Δt ∝ 1 / max |κ| so that the front crosses at most one pixel a step (and at most the explicit scheme's
   stability bound, ¼ pixel² per unit time);
@@ -178,8 +179,92 @@ def _speed(P: np.ndarray, idx: np.ndarray, W: int) -> np.ndarray:
     return div, grad
 
 
-def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float) -> tuple[np.ndarray, int]:
-    """Run the constrained flow on one level; returns Φ and the number of steps taken."""
+# The eight neighbours in ring order (N, NE, E, SE, S, SW, W, NW) as (row, column) offsets.
+_RING = ((-1, 0), (-1, 1), (0, 1), (1, 1), (1, 0), (1, -1), (0, -1), (-1, -1))
+
+
+def _components_in_ring(bits: tuple, adjacency: int) -> int:
+    """Connected components of the set pixels of a 3 × 3 ring (centre excluded) that touch the centre.
+
+    With ``adjacency=8`` all set ring pixels count and diagonal steps connect; with 4, only components
+    that contain one of the four direct neighbours count and only side steps connect.
+    """
+    on = [i for i in range(8) if bits[i]]
+    seen, count = set(), 0
+    for start in on:
+        if start in seen:
+            continue
+        stack, comp = [start], {start}
+        while stack:
+            i = stack.pop()
+            for j in on:
+                if j in comp:
+                    continue
+                di = abs(_RING[i][0] - _RING[j][0])
+                dj = abs(_RING[i][1] - _RING[j][1])
+                if (di <= 1 and dj <= 1) if adjacency == 8 else (di + dj == 1):
+                    comp.add(j)
+                    stack.append(j)
+        seen |= comp
+        if adjacency == 8 or any(i % 2 == 0 for i in comp):
+            count += 1
+    return count
+
+
+def _simple_table() -> np.ndarray:
+    """For each of the 256 rings: whether flipping the centre changes no topology, in (8,4) nor in (4,8).
+
+    A pixel is simple for a set F when its ring has one F-component and one component of the complement
+    touching it (Rosenfeld). Asking both connectivity pairs makes the test symmetric under complement.
+    """
+    table = np.zeros(256, dtype=bool)
+    for code in range(256):
+        fg = tuple((code >> i) & 1 for i in range(8))
+        bg = tuple(1 - b for b in fg)
+        table[code] = (_components_in_ring(fg, 8) == 1 and _components_in_ring(bg, 4) == 1
+                       and _components_in_ring(fg, 4) == 1 and _components_in_ring(bg, 8) == 1)
+    return table
+
+
+_SIMPLE = _simple_table()
+
+
+def _keep_topology(flat: np.ndarray, idx: np.ndarray, old: np.ndarray, new: np.ndarray, W: int) -> np.ndarray:
+    """Apply a step's sign changes only at simple pixels, in four passes of pixels never 8-adjacent.
+
+    ``new`` holds the step's values (already written); returns them with every refused sign change undone
+    (the pixel keeps its old value).
+    """
+    flips = np.flatnonzero((old < 0) != (new < 0))
+    if flips.size == 0:
+        return new
+    pos = idx[flips]
+    flat[pos] = old[flips]                      # undo, then redo pass by pass where allowed
+    offsets = np.array([dr * W + dc for dr, dc in _RING])
+    weights = 1 << np.arange(8)
+    parity = (pos // W % 2) * 2 + (pos % W % 2)
+    out = new.copy()
+    for sub in range(4):
+        sel = parity == sub
+        if not sel.any():
+            continue
+        p = pos[sel]
+        ring = flat[p[:, None] + offsets[None, :]] < 0
+        ok = _SIMPLE[(ring * weights).sum(axis=1)]
+        k = flips[sel]
+        flat[p[ok]] = new[k[ok]]
+        out[k[~ok]] = old[k[~ok]]
+    return out
+
+
+def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
+          keep_topology: bool = False) -> tuple[np.ndarray, int]:
+    """Run the constrained flow on one level; returns Φ and the number of steps taken.
+
+    With ``keep_topology`` a pixel changes sign only where that changes no component or hole (a simple
+    pixel): the coarse levels use it, because there fronts a pixel or two apart would merge across gaps
+    the full-resolution flow keeps open.
+    """
     H, W0 = phi.shape
     P = np.pad(phi, 1, mode="edge")              # a one-pixel frame so every band pixel has 8 neighbours
     Wp = W0 + 2
@@ -198,17 +283,17 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float) ->
         old = flat[idx]
         new = old + (dt * kappa * grad).astype(np.float32)
         flat[idx] = new
-        # Keep the frame equal to the border pixels (edge replication), cheaply: only where the band is.
+        if keep_topology:
+            new = _keep_topology(flat, idx, old, new, Wp)
+        # Keep the frame equal to the border pixels (edge replication).
         P[0, :], P[-1, :], P[:, 0], P[:, -1] = P[1, :], P[-2, :], P[:, 1], P[:, -2]
         flips = (old < 0) != (new < 0)
         moved = float(np.abs(new - old)[np.abs(new) <= 1.0].max(initial=0.0))
         if not flips.any() and moved < stop:
             break
+        # Rebuild the band when the front reaches its rim; inside it, the band still holds the front.
         if flips.any() and band.rim[flips].any():
             band = _Band(P, mov)
-        elif flips.any():
-            # The front moved inside the band; the rim test above catches it before it leaves.
-            pass
     return P[1:-1, 1:-1].copy(), steps
 
 
@@ -293,8 +378,14 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
     start = {"core": R, "input": M, "mason": mason(M, r) if init == "mason" else None}[init]
     phi0 = signed_distance(start) if start.any() and not start.all() else \
         np.where(start, -0.5, 0.5).astype(np.float32)
-    # The constraints: Φ < 0 in the core and > 0 in the anticore, for good.
-    phi0 = np.where(R, np.minimum(phi0, -0.5), np.where(~F, np.maximum(phi0, 0.5), phi0)).astype(np.float32)
+    # The constraints: Φ < 0 in the core and > 0 in the anticore, for good. There Φ is the signed distance
+    # to the constraint's own edge (−½ and +½ on its first pixels), not to the initial set: a front that
+    # reaches the anticore then sees it as a boundary half a pixel away, and settles against it.
+    if R.any():
+        phi0[R] = 0.5 - ndimage.distance_transform_edt(R)[R]
+    if not F.all():
+        A = ~F
+        phi0[A] = ndimage.distance_transform_edt(A)[A] - 0.5
     movable = F & ~R
     timings["init"] = time.perf_counter() - t0
     counts = []
@@ -307,7 +398,12 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
             phi_k = base.copy()
         else:
             phi_k = np.where(mov_k, _upsample(phi, base.shape), base).astype(np.float32)
-        phi, n = _flow(phi_k, mov_k, iterations, stop)
+            # Reinitialise: in the mortar, Φ becomes the signed distance to the upsampled front again, so
+            # that the narrow gaps the coarse level left between fronts get their true width in Φ.
+            inside = phi_k < 0
+            if inside.any() and not inside.all():
+                phi_k = np.where(mov_k, signed_distance(inside), base).astype(np.float32)
+        phi, n = _flow(phi_k, mov_k, iterations, stop, keep_topology=k > 0)
         counts.append(n)
         timings[f"flow level {k}"] = time.perf_counter() - t0
     out = (phi < 0) | R
