@@ -1,0 +1,159 @@
+"""Shared style for the figure scripts: palette, panel set-up, labels and atomic saving.
+
+Every ``figN_*.py`` script imports this module (it sits next to them; `make_all.py` and the tests put
+this folder on ``sys.path``). matplotlib is used with the Agg backend; nothing is ever shown on screen.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import shapely  # noqa: E402
+
+HERE = Path(__file__).resolve().parent
+if str(HERE.parent) not in sys.path:          # the project root, for `import vectortighten` in a checkout
+    sys.path.insert(0, str(HERE.parent))
+
+import vectortighten as vt  # noqa: E402
+from vectortighten.plotting import COLORS, draw_geometry, draw_loops  # noqa: E402
+
+__all__ = [
+    "COLORS",
+    "DPI",
+    "HERE",
+    "BLACK",
+    "GREY",
+    "LIGHT",
+    "draw_geometry",
+    "draw_loops",
+    "draw_polyline",
+    "fill",
+    "frame",
+    "new_figure",
+    "save",
+    "stats_label",
+    "plt",
+    "vt",
+]
+
+#: Resolution of the PNG files (keeps them well under 300 KB).
+DPI = 110
+#: The paper's palette: black for the set shown, grey for what an operation adds or removes.
+BLACK = "#111111"
+GREY = "#a8a8a8"
+LIGHT = "#d9d9d9"
+
+plt.rcParams.update({
+    "font.size": 9,
+    "axes.titlesize": 9,
+    "figure.titlesize": 11,
+    "svg.fonttype": "none",
+})
+
+
+def new_figure(nrows: int, ncols: int, *, panel: tuple[float, float] = (4.0, 3.2)):
+    """A figure with ``nrows × ncols`` frameless, equal-aspect panels of size ``panel`` (inches)."""
+    fig, axes = plt.subplots(nrows, ncols, figsize=(panel[0] * ncols, panel[1] * nrows), squeeze=False)
+    for ax in axes.flat:
+        ax.set_aspect("equal")
+        ax.set_xticks([])
+        ax.set_yticks([])
+        for spine in ax.spines.values():
+            spine.set_visible(False)
+    return fig, axes
+
+
+def frame(ax, bounds, pad: float = 0.0, *, box: bool = False) -> None:
+    """Fix the panel's limits to ``bounds`` grown by ``pad``; with ``box`` draw a thin frame around it."""
+    x0, y0, x1, y1 = bounds
+    ax.set_xlim(x0 - pad, x1 + pad)
+    ax.set_ylim(y0 - pad, y1 + pad)
+    for spine in ax.spines.values():
+        spine.set_visible(box)
+        spine.set_linewidth(0.5)
+        spine.set_color("0.6")
+
+
+def fill(ax, geom, color, *, edge: str | None = None, lw: float = 0.8, **kwargs):
+    """Fill a shapely (Multi)Polygon (holes included), optionally with an outline; empty geometry is skipped."""
+    if geom is None or geom.is_empty:
+        return None
+    return draw_geometry(ax, geom, facecolor=color, edgecolor=edge or "none", linewidth=lw, **kwargs)
+
+
+def draw_polyline(ax, xy, *, closed: bool = True, **kwargs):
+    """Draw a polyline given as ``(n, 2)`` coordinates (closed by default)."""
+    xy = np.asarray(xy, dtype=float)
+    if closed and len(xy) and not np.array_equal(xy[0], xy[-1]):
+        xy = np.vstack([xy, xy[:1]])
+    return ax.plot(xy[:, 0], xy[:, 1], **kwargs)
+
+
+def _fmt_radius(value: float) -> str:
+    if math.isinf(value):
+        return "∞"
+    if value < 1e-3:
+        return "0 (corner)"
+    return f"{value:.3g}"
+
+
+def stats_label(obj, r: float | None = None) -> str:
+    """One line: perimeter, minimum radius of curvature, components and holes of a result or polygon.
+
+    ``obj`` is a `vectortighten.Tightening` (exact measures) or a shapely (Multi)Polygon (perimeter of the
+    polygon; the radius of curvature is the discrete estimate at its vertices, reported as a corner below
+    1 % of r since chords of an arc of radius r have a tiny but non-zero estimate only near r).
+    """
+    if isinstance(obj, vt.Tightening):
+        per, rmin, nc, nh = obj.perimeter, obj.min_radius_of_curvature, obj.n_components, obj.n_holes
+    else:
+        per = float(obj.length) if not obj.is_empty else 0.0
+        rmin = vt.min_radius_of_curvature(obj) if not obj.is_empty else math.inf
+        if r is not None and rmin < 0.01 * r:
+            rmin = 0.0
+        nc, nh = vt.n_components(obj), vt.n_holes(obj)
+    return (f"perimeter {per:.1f}, min radius {_fmt_radius(rmin)}\n"
+            f"{nc} component{'s' if nc != 1 else ''}, {nh} hole{'s' if nh != 1 else ''}")
+
+
+def save(fig, outdir, name: str, *, svg: bool = False) -> list[Path]:
+    """Write ``name.png`` (and ``name.svg``) into ``outdir`` atomically: temporary file, then rename.
+
+    Returns the paths written; the figure is closed.
+    """
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    written = []
+    try:
+        for ext in (["png", "svg"] if svg else ["png"]):
+            path = outdir / f"{name}.{ext}"
+            fd, tmp = tempfile.mkstemp(dir=outdir, prefix=f".{path.name}.", suffix=f".{ext}")
+            os.close(fd)
+            try:
+                fig.savefig(tmp, dpi=DPI, bbox_inches="tight", pad_inches=0.08, facecolor="white")
+                os.chmod(tmp, 0o644)
+                os.replace(tmp, path)
+            finally:
+                if os.path.exists(tmp):
+                    os.unlink(tmp)
+            written.append(path)
+    finally:
+        plt.close(fig)
+    return written
+
+
+def geom_union(*geoms):
+    """Union of shapely geometries, made a valid (Multi)Polygon with counter-clockwise exteriors."""
+    g = shapely.union_all(list(geoms))
+    g = shapely.make_valid(g)
+    polys = [p for p in shapely.get_parts(g) if p.geom_type == "Polygon" and not p.is_empty]
+    return shapely.orient_polygons(shapely.union_all(polys), exterior_cw=False)
