@@ -62,7 +62,8 @@ plt.rcParams.update({
 
 def new_figure(nrows: int, ncols: int, *, panel: tuple[float, float] = (4.0, 3.2)):
     """A figure with ``nrows × ncols`` frameless, equal-aspect panels of size ``panel`` (inches)."""
-    fig, axes = plt.subplots(nrows, ncols, figsize=(panel[0] * ncols, panel[1] * nrows), squeeze=False)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(panel[0] * ncols, panel[1] * nrows), squeeze=False,
+                             layout="constrained")
     for ax in axes.flat:
         ax.set_aspect("equal")
         ax.set_xticks([])
