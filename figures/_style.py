@@ -29,6 +29,7 @@ from vectortighten.plotting import COLORS, draw_geometry, draw_loops  # noqa: E4
 __all__ = [
     "COLORS",
     "DPI",
+    "caption",
     "HERE",
     "BLACK",
     "GREY",
@@ -97,6 +98,11 @@ def draw_polyline(ax, xy, *, closed: bool = True, **kwargs):
     if closed and len(xy) and not np.array_equal(xy[0], xy[-1]):
         xy = np.vstack([xy, xy[:1]])
     return ax.plot(xy[:, 0], xy[:, 1], **kwargs)
+
+
+def caption(ax, text: str, fontsize: float = 8) -> None:
+    """Put ``text`` under the panel (as its x label, which constrained layout makes room for)."""
+    ax.set_xlabel(text, fontsize=fontsize, labelpad=3)
 
 
 def _fmt_radius(value: float) -> str:
