@@ -40,6 +40,7 @@ __all__ = [
     "fill",
     "frame",
     "new_figure",
+    "polygon_min_radius",
     "save",
     "stats_label",
     "plt",
@@ -108,25 +109,48 @@ def caption(ax, text: str, fontsize: float = 8) -> None:
 def _fmt_radius(value: float) -> str:
     if math.isinf(value):
         return "∞"
-    if value < 1e-3:
+    if value == 0.0:
         return "0 (corner)"
     return f"{value:.3g}"
 
 
-def stats_label(obj, r: float | None = None) -> str:
-    """One line: perimeter, minimum radius of curvature, components and holes of a result or polygon.
+#: A polygon vertex turning by more than this (radians) is a corner, not a sample of a smooth curve. The
+#: figures sample circles with at least 48 vertices (7.5° a vertex).
+CORNER_TURN = 0.35
 
-    ``obj`` is a `vectortighten.Tightening` (exact measures) or a shapely (Multi)Polygon (perimeter of the
-    polygon; the radius of curvature is the discrete estimate at its vertices, reported as a corner below
-    1 % of r since chords of an arc of radius r have a tiny but non-zero estimate only near r).
+
+def polygon_min_radius(geom) -> float:
+    """Smallest radius of curvature of a polygon's boundary: 0 if it has a corner, else the discrete estimate.
+
+    A vertex whose turning angle exceeds `CORNER_TURN` is a corner (radius 0); elsewhere the radius is
+    `vectortighten.metrics.polygon_radii_of_curvature` (the circle through the vertex and its neighbours).
+    """
+    from vectortighten.metrics import polygon_radii_of_curvature
+
+    if geom.is_empty:
+        return math.inf
+    for ring in shapely.get_rings(shapely.get_parts(geom)):
+        c = shapely.get_coordinates(ring)[:-1]
+        u = c - np.roll(c, 1, axis=0)
+        v = np.roll(c, -1, axis=0) - c
+        turn = np.abs(np.arctan2(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0], (u * v).sum(axis=1)))
+        if (turn > CORNER_TURN).any():
+            return 0.0
+    radii = polygon_radii_of_curvature(geom)
+    return float(radii.min()) if len(radii) else math.inf
+
+
+def stats_label(obj, r: float | None = None) -> str:
+    """Two lines: perimeter, minimum radius of curvature, components and holes of a result or polygon.
+
+    ``obj`` is a `vectortighten.Tightening` (exact measures: its loops are segments and arcs) or a shapely
+    (Multi)Polygon (its perimeter; the radius by `polygon_min_radius`, so 0 at a corner).
     """
     if isinstance(obj, vt.Tightening):
         per, rmin, nc, nh = obj.perimeter, obj.min_radius_of_curvature, obj.n_components, obj.n_holes
     else:
         per = float(obj.length) if not obj.is_empty else 0.0
-        rmin = vt.min_radius_of_curvature(obj) if not obj.is_empty else math.inf
-        if r is not None and rmin < 0.01 * r:
-            rmin = 0.0
+        rmin = polygon_min_radius(obj)
         nc, nh = vt.n_components(obj), vt.n_holes(obj)
     return (f"perimeter {per:.1f}, min radius {_fmt_radius(rmin)}\n"
             f"{nc} component{'s' if nc != 1 else ''}, {nh} hole{'s' if nh != 1 else ''}")
