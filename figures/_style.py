@@ -117,26 +117,45 @@ def _fmt_radius(value: float) -> str:
 #: A polygon vertex turning by more than this (radians) is a corner, not a sample of a smooth curve. The
 #: figures sample circles with at least 48 vertices (7.5° a vertex).
 CORNER_TURN = 0.35
+#: In labels, a polygon's discrete radius estimate below this share of r is reported as a corner: the
+#: figures' arcs have radius r or more (or are the input's own), and smaller estimates come from mild
+#: tangent discontinuities (where an arc of the core meets an arc of the fillet) sampled finely.
+CORNER_RADIUS = 0.2
 
 
-def polygon_min_radius(geom) -> float:
+def polygon_min_radius(geom, r: float | None = None) -> float:
     """Smallest radius of curvature of a polygon's boundary: 0 if it has a corner, else the discrete estimate.
 
-    A vertex whose turning angle exceeds `CORNER_TURN` is a corner (radius 0); elsewhere the radius is
-    `vectortighten.metrics.polygon_radii_of_curvature` (the circle through the vertex and its neighbours).
+    Edges shorter than 1e-4·r (or 1e-6 of the size) are merged first: GEOS overlays leave steps of about
+    the chord tolerance that would otherwise read as two right-angle corners. Then a vertex whose turning
+    angle exceeds `CORNER_TURN` is a corner (radius 0); elsewhere the radius is
+    `vectortighten.metrics.polygon_radii_of_curvature` (the circle through a vertex and its neighbours).
     """
     from vectortighten.metrics import polygon_radii_of_curvature
 
     if geom.is_empty:
         return math.inf
+    x0, y0, x1, y1 = geom.bounds
+    eps = 1e-4 * r if r is not None else 1e-6 * max(x1 - x0, y1 - y0)
+    rings = []
     for ring in shapely.get_rings(shapely.get_parts(geom)):
         c = shapely.get_coordinates(ring)[:-1]
+        keep = [0]
+        for i in range(1, len(c)):
+            if math.hypot(*(c[i] - c[keep[-1]])) >= eps:
+                keep.append(i)
+        c = c[keep]
+        if len(c) >= 2 and math.hypot(*(c[-1] - c[0])) < eps:
+            c = c[:-1]
+        if len(c) < 3:
+            continue
         u = c - np.roll(c, 1, axis=0)
         v = np.roll(c, -1, axis=0) - c
         turn = np.abs(np.arctan2(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0], (u * v).sum(axis=1)))
         if (turn > CORNER_TURN).any():
             return 0.0
-    radii = polygon_radii_of_curvature(geom)
+        rings.append(shapely.Polygon(c))
+    radii = polygon_radii_of_curvature(shapely.MultiPolygon(rings)) if rings else np.zeros(0)
     return float(radii.min()) if len(radii) else math.inf
 
 
@@ -144,13 +163,16 @@ def stats_label(obj, r: float | None = None) -> str:
     """Two lines: perimeter, minimum radius of curvature, components and holes of a result or polygon.
 
     ``obj`` is a `vectortighten.Tightening` (exact measures: its loops are segments and arcs) or a shapely
-    (Multi)Polygon (its perimeter; the radius by `polygon_min_radius`, so 0 at a corner).
+    (Multi)Polygon (its perimeter; the radius by `polygon_min_radius`, 0 at a corner; with ``r`` given,
+    estimates below `CORNER_RADIUS`·r are reported as corners too).
     """
     if isinstance(obj, vt.Tightening):
         per, rmin, nc, nh = obj.perimeter, obj.min_radius_of_curvature, obj.n_components, obj.n_holes
     else:
         per = float(obj.length) if not obj.is_empty else 0.0
-        rmin = polygon_min_radius(obj)
+        rmin = polygon_min_radius(obj, r)
+        if r is not None and rmin < CORNER_RADIUS * r:
+            rmin = 0.0          # a tangent discontinuity sampled finely, not an arc
         nc, nh = vt.n_components(obj), vt.n_holes(obj)
     return (f"perimeter {per:.1f}, min radius {_fmt_radius(rmin)}\n"
             f"{nc} component{'s' if nc != 1 else ''}, {nh} hole{'s' if nh != 1 else ''}")
