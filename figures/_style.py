@@ -86,11 +86,38 @@ def frame(ax, bounds, pad: float = 0.0, *, box: bool = False) -> None:
         spine.set_color("0.6")
 
 
+def _path(geom):
+    """A matplotlib Path of a (Multi)Polygon's rings (holes included; even-odd fill), or None if empty."""
+    from matplotlib.path import Path as MplPath
+
+    verts, codes = [], []
+    for poly in shapely.get_parts(geom):
+        if poly.is_empty or poly.geom_type != "Polygon":
+            continue
+        for ring in shapely.get_rings(poly):
+            c = shapely.get_coordinates(ring)
+            verts.append(c)
+            codes.append(np.r_[MplPath.MOVETO, np.full(len(c) - 2, MplPath.LINETO), MplPath.CLOSEPOLY])
+    if not verts:
+        return None
+    return MplPath(np.concatenate(verts), np.concatenate(codes).astype(MplPath.code_type))
+
+
 def fill(ax, geom, color, *, edge: str | None = None, lw: float = 0.8, **kwargs):
-    """Fill a shapely (Multi)Polygon (holes included), optionally with an outline; empty geometry is skipped."""
+    """Fill a shapely (Multi)Polygon (holes included), optionally with an outline; empty geometry is skipped.
+
+    The patch is added without updating the data limits (slow for large paths): set them with `frame`.
+    """
+    from matplotlib.patches import PathPatch
+
     if geom is None or geom.is_empty:
         return None
-    return draw_geometry(ax, geom, facecolor=color, edgecolor=edge or "none", linewidth=lw, **kwargs)
+    path = _path(geom)
+    if path is None:
+        return None
+    patch = PathPatch(path, facecolor=color, edgecolor=edge or "none", linewidth=lw, **kwargs)
+    ax.add_artist(patch)
+    return patch
 
 
 def draw_polyline(ax, xy, *, closed: bool = True, **kwargs):
