@@ -8,14 +8,16 @@ from __future__ import annotations
 
 import numpy as np
 import shapely
-from shapely.geometry import Point, Polygon, box
+from shapely.geometry import Polygon, box
 import shapely.affinity
 
 __all__ = [
     "FIG1_R",
     "blob",
-    "fig1_shape",
+    "coastline",
     "disk",
+    "fig1_shape",
+    "turtle",
 ]
 
 #: The radius used with `fig1_shape` (Figures 1–4).

@@ -2,8 +2,9 @@
 
 (left) The input set S in black; the material that growing by r, S↑r, adds to it in grey.
 (right) S shrunk by r, S↓r, in black; the material shrinking removes from S in grey.
-Growing bridges the gap to the right block and fills the crack and the small hole; shrinking cuts the
-thin bar, removes the island and the spike's tip and blunts nothing else.
+Growing adds a band of width r all round: it bridges the gap to the right block and fills the crack and
+the small hole. Shrinking removes a band of width r: it cuts the thin bar, removes the island and shortens
+the spike, and widens the holes and the crack.
 """
 
 from __future__ import annotations
