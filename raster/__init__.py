@@ -1,3 +1,20 @@
-"""raster: the paper's pixel method for r-tightening (constrained level-set curvature flow)."""
+"""raster: the paper's pixel method for r-tightening (constrained level-set curvature flow).
 
-__all__: list[str] = []
+Masks are 2-D boolean arrays (True = inside) and every radius is in pixels; see `raster.morphology` for the
+pixel-centre semantics and `raster.tighten` for the flow.
+"""
+
+from .morphology import anticore, core, fillet, grow, mortar, shrink
+from .tighten import Init, RasterTightening, tighten
+
+__all__ = [
+    "Init",
+    "RasterTightening",
+    "anticore",
+    "core",
+    "fillet",
+    "grow",
+    "mortar",
+    "shrink",
+    "tighten",
+]
