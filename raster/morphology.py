@@ -2,17 +2,23 @@
 
 Pixel-centre semantics
 ----------------------
-A mask is a set of pixel centres: pixel ``(i, j)`` stands for the point ``(j, i)`` (column, row) and
-belongs to the set where the mask is True. Every distance is the exact Euclidean distance between pixel
-centres, in pixels (`scipy.ndimage.distance_transform_edt`). Beyond the image border every pixel has the
-value ``outside`` (False by default: the image is surrounded by background, so the border never acts as
-shape). With ``S`` the set of True pixels (Williams & Rossignac, §2.2–2.4):
+A mask is a set of pixels: pixel ``(i, j)`` (row i, column j) is centred at the point ``(j, i)``, and the
+boundary of the shape is taken half-way between the centres of a True and a False pixel, as for a shape
+rasterised by its pixel centres. So a centre's distance to the shape is its Euclidean distance to the nearest
+True centre minus 1/2, and its distance to the complement is the distance to the nearest False centre minus
+1/2. Distances are exact (`scipy.ndimage.distance_transform_edt`), in pixels. Beyond the image border every
+pixel has the value ``outside`` (False by default: the image is surrounded by background, so the border never
+acts as shape). With ``S`` the set of True pixels (Williams & Rossignac, §2.2–2.4):
 
-* grow ``S↑r`` — pixels whose centre is at distance **< r** from the centre of a pixel of ``S``;
-* shrink ``S↓r`` — pixels whose centre is at distance **≥ r** from every pixel not in ``S``;
-  ``shrink(S, r) = ¬grow(¬S, r)`` exactly;
+* grow ``S↑r`` — pixels whose centre is at distance **< r + 1/2** from the centre of a pixel of ``S``;
+* shrink ``S↓r`` — pixels whose centre is at distance **≥ r + 1/2** from the centre of every pixel not in
+  ``S``; ``shrink(S, r) = ¬grow(¬S, r)`` exactly;
 * core ``R_r(S) = S↓r↑r`` (opening), fillet ``F_r(S) = S↑r↓r`` (closing);
 * mortar ``M_r(S) = F_r(S) − R_r(S)``, anticore ``¬F_r(S)``.
+
+(Measuring from centre to centre without the half pixel would make every corner arc of the core half a pixel
+too tight: the corners of a 240-pixel square lose 1228 pixels at r = 40 instead of (4 − π)r² ≈ 1373; with
+the half pixel, 1392.)
 
 The discrete inclusions ``core ⊆ S ⊆ fillet`` hold exactly, pixel for pixel: distances between pixel centres
 are square roots of integers, computed the same way on both sides of every comparison. So does duality:
@@ -51,19 +57,23 @@ def _edt(x: np.ndarray) -> np.ndarray:
     return ndi.distance_transform_edt(x)
 
 
+# Half a pixel: the boundary of a mask lies half-way between pixel centres.
+_HALF = 0.5
+
+
 def _grow(xp: np.ndarray, r: float) -> np.ndarray:
-    """``xp↑r`` on a padded array: pixels at distance < r from a True pixel."""
-    return _edt(~xp) < r
+    """``xp↑r`` on a padded array: pixels at distance < r + 1/2 from a True pixel."""
+    return _edt(~xp) < r + _HALF
 
 
 def _shrink(xp: np.ndarray, r: float) -> np.ndarray:
-    """``xp↓r`` on a padded array: pixels at distance ≥ r from every False pixel."""
-    return _edt(xp) >= r
+    """``xp↓r`` on a padded array: pixels at distance ≥ r + 1/2 from every False pixel."""
+    return _edt(xp) >= r + _HALF
 
 
 def _pad_width(r: float) -> int:
     """Padding (pixels) after which a grow-then-shrink (or shrink-then-grow) sees a constant border."""
-    return int(math.ceil(r)) + 2
+    return int(math.ceil(r)) + 3
 
 
 def _pad(mask: np.ndarray, width: int, outside: bool) -> np.ndarray:
@@ -78,8 +88,8 @@ def _core_fillet_padded(mp: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarra
     """
     d_in = _edt(mp)
     d_out = _edt(~mp)
-    shrunk = d_in >= r
-    grown = d_out < r
+    shrunk = d_in >= r + _HALF
+    grown = d_out < r + _HALF
     core_p = _grow(shrunk, r)
     fillet_p = _shrink(grown, r)
     return core_p, fillet_p, d_in, d_out
@@ -108,13 +118,13 @@ def grow(mask, r: float, *, outside: bool = False) -> np.ndarray:
     Returns
     -------
     grown : (h, w) ndarray of bool
-        Pixels whose centre is at Euclidean distance < r from the centre of a pixel of ``S``.
+        Pixels whose centre is at Euclidean distance < r + 1/2 from the centre of a pixel of ``S``.
 
     Examples
     --------
     >>> import numpy as np
     >>> m = np.zeros((5, 5), bool); m[2, 2] = True
-    >>> grow(m, 1.5).astype(int)
+    >>> grow(m, 1.0).astype(int)
     array([[0, 0, 0, 0, 0],
            [0, 1, 1, 1, 0],
            [0, 1, 1, 1, 0],
@@ -142,13 +152,13 @@ def shrink(mask, r: float, *, outside: bool = False) -> np.ndarray:
     Returns
     -------
     shrunk : (h, w) ndarray of bool
-        Pixels whose centre is at distance ≥ r from the centre of every pixel not in ``S``.
+        Pixels whose centre is at distance ≥ r + 1/2 from the centre of every pixel not in ``S``.
 
     Examples
     --------
     >>> import numpy as np
     >>> m = np.zeros((5, 5), bool); m[1:4, 1:4] = True
-    >>> shrink(m, 1.5).astype(int)
+    >>> shrink(m, 1.0).astype(int)
     array([[0, 0, 0, 0, 0],
            [0, 0, 0, 0, 0],
            [0, 0, 1, 0, 0],
