@@ -30,6 +30,7 @@ __all__ = [
     "COLORS",
     "DPI",
     "caption",
+    "counts",
     "HERE",
     "BLACK",
     "GREY",
@@ -201,8 +202,13 @@ def stats_label(obj, r: float | None = None) -> str:
         if r is not None and rmin < CORNER_RADIUS * r:
             rmin = 0.0          # a tangent discontinuity sampled finely, not an arc
         nc, nh = vt.n_components(obj), vt.n_holes(obj)
-    return (f"perimeter {per:.1f}, min radius {_fmt_radius(rmin)}\n"
-            f"{nc} component{'s' if nc != 1 else ''}, {nh} hole{'s' if nh != 1 else ''}")
+    return f"perimeter {per:.1f}, min radius {_fmt_radius(rmin)}\n{counts(nc, nh)}"
+
+
+def counts(n_components: int, n_holes: int) -> str:
+    """``"3 components, 1 hole"``."""
+    return (f"{n_components} component{'s' if n_components != 1 else ''}, "
+            f"{n_holes} hole{'s' if n_holes != 1 else ''}")
 
 
 def save(fig, outdir, name: str, *, svg: bool = False) -> list[Path]:

@@ -3,7 +3,13 @@
 (a) The input: a turtle with a wavy shell, a lake larger than r and two smaller, thick legs, a head on a
 neck narrower than 2r, a thin tail and a small eye. (b) Its exact vector r-tightening from the core (the
 paper's method), over the mortar. (c) The paper's pixel method (constrained level-set curvature flow,
-`raster` package) on the rasterised input, beside it, and their difference.
+`raster` package) on the rasterised input, and (d) where the two differ.
+
+Both start from the core. The vector engine tightens each core loop in its homotopy class and merges
+loops only where the tight loops touch; the pixel flow, run multiscale as in the paper, can merge core
+components that lie a few coarse pixels apart at its coarser levels, and a merged set then stays merged
+(its neck is held by the anticore). Both results are r-smooth and lie between core and fillet, but their
+topology can differ; panel (d) reports it.
 """
 
 from __future__ import annotations
