@@ -50,3 +50,10 @@ def test_run_all_selection(tmp_path):
     paths = make_all.run_all(tmp_path / "out", names=["fig5_tight_curves"])
     assert [p.name for p in paths] == ["fig5_tight_curves.png"]
 
+
+
+def test_raster_figure_without_raster_package(tmp_path, monkeypatch):
+    helper = make_all.load("_raster_fig")
+    monkeypatch.setattr(helper, "raster_module", lambda: None)
+    paths = make_all.load("fig9_raster_75").draw(tmp_path, scale=0.25)
+    _check(paths, "fig9_raster_75")
