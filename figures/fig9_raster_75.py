@@ -1,0 +1,38 @@
+"""Figure 9 — the paper's second raster example: a 1050 × 825 px input tightened with r = 75 px.
+
+(a) The input: a turtle with a wavy shell, a lake larger than r and two smaller, thick legs, a head on a
+neck narrower than 2r, a thin tail and a small eye. (b) Its exact vector r-tightening from the core (the
+paper's method), over the mortar. (c) The paper's pixel method (constrained level-set curvature flow,
+`raster` package) on the rasterised input, and (d) where the two differ.
+
+Both start from the core. The vector engine tightens each core loop in its homotopy class and merges
+loops only where the tight loops touch; the pixel flow, run multiscale as in the paper, can merge core
+components that lie a few coarse pixels apart at its coarser levels, and a merged set then stays merged
+(its neck is held by the anticore). Both results are r-smooth and lie between core and fillet, but their
+topology can differ; panel (d) reports it.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _raster_fig import draw_raster_figure  # noqa: E402
+from _shapes import turtle  # noqa: E402
+
+NAME = "fig9_raster_75"
+SIZE = (1050, 825)
+R = 75.0
+
+
+def draw(outdir, *, scale: float = 1.0, svg: bool = False) -> list[Path]:
+    """Draw Figure 9 into ``outdir`` (``scale`` < 1 shrinks the image and r alike, for quick tests)."""
+    return draw_raster_figure(outdir, name=NAME, shape=turtle, size=SIZE, r=R, scale=scale, svg=svg,
+                              title=f"Figure 9. A {SIZE[0]} × {SIZE[1]} px input tightened with r = {R:g} px")
+
+
+if __name__ == "__main__":
+    for p in draw(Path(__file__).resolve().parent):
+        print(p)
