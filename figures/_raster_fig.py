@@ -108,7 +108,7 @@ def draw_raster_figure(outdir, *, name: str, title: str, shape, size: tuple[int,
 
 
 def _image(ax, mask, extent, colors, **kwargs):
-    ax.imshow(mask.astype(np.uint8), origin="lower", extent=extent, cmap=ListedColormap(colors),
+    ax.imshow(mask.astype(np.uint8), origin="upper", extent=extent, cmap=ListedColormap(colors),
               vmin=0, vmax=len(colors) - 1, interpolation="nearest", **kwargs)
 
 
