@@ -250,8 +250,11 @@ def _keep_topology(flat: np.ndarray, idx: np.ndarray, old: np.ndarray, new: np.n
             continue
         p = pos[sel]
         ring = flat[p[:, None] + offsets[None, :]] < 0
-        ok = _SIMPLE[(ring * weights).sum(axis=1)]
+        code = (ring * weights).sum(axis=1)
         k = flips[sel]
+        # Simple pixels, and the last pixel of a component or a hole: small parts may vanish (creating
+        # one, a pixel unlike all its neighbours turning, may not).
+        ok = _SIMPLE[code] | ((code == 255) & (old[k] >= 0)) | ((code == 0) & (old[k] < 0))
         flat[p[ok]] = new[k[ok]]
         out[k[~ok]] = old[k[~ok]]
     return out

@@ -430,3 +430,28 @@ def test_version(capsys):
     with pytest.raises(SystemExit) as exc:
         main(["--version"])
     assert exc.value.code == 0 and "vectortighten" in capsys.readouterr().out
+
+
+# -- compare and figures -----------------------------------------------------------------------------------
+def test_compare_prints_table_and_plots(tmp_path, capsys):
+    src = tmp_path / "l.wkt"
+    src.write_text("POLYGON ((0 0, 12 0, 12 5, 5 5, 5 12, 0 12, 0 0))")
+    plot = tmp_path / "check.png"
+    assert main(["compare", str(src), "-r", "1.5", "--plot", str(plot)]) == 0
+    out = capsys.readouterr().out
+    assert "Hausdorff distance" in out and "agree" in out and "yes" in out
+    assert plot.stat().st_size > 1000
+
+
+def test_compare_bad_plot_extension(tmp_path, capsys):
+    src = tmp_path / "s.wkt"
+    src.write_text("POLYGON ((0 0, 4 0, 4 4, 0 4, 0 0))")
+    assert main(["compare", str(src), "-r", "1", "--plot", str(tmp_path / "x.txt")]) == 2
+    assert "must be .png" in capsys.readouterr().err
+
+
+def test_figures_command_one_figure(tmp_path, capsys):
+    assert main(["figures", "-o", str(tmp_path / "figs"), "--only", "fig2_round_fillet"]) == 0
+    assert (tmp_path / "figs" / "fig2_round_fillet.png").stat().st_size > 1000
+    assert main(["figures", "-o", str(tmp_path / "figs"), "--only", "fig99"]) == 2
+    assert "unknown figure" in capsys.readouterr().err

@@ -28,6 +28,8 @@ examples:
   vectortighten tighten shape.svg -r 2 -o tight.svg
   vectortighten tighten shape.wkt -r 2 -o tight.dxf --init input
   vectortighten tighten drawings/ -r 0.5 -o out/ --format svg --jobs 4
+  vectortighten compare shape.svg -r 2 --plot check.png
+  vectortighten figures -o figs
   python -m vectortighten tighten --help
 """
 
@@ -457,12 +459,91 @@ def _cmd_tighten(args) -> int:
 
 
 # ---------------------------------------------------------------------------------------------------------
+# compare
+# ---------------------------------------------------------------------------------------------------------
+_EPILOG_COMPARE = """\
+examples:
+  vectortighten compare shape.svg -r 2
+  vectortighten compare shape.wkt -r 2 --pixel-size 0.05 --init input --plot check.png
+"""
+
+
+def _add_compare(sub) -> None:
+    cmp_ = sub.add_parser(
+        "compare", help="cross-check the exact tightening against the paper's pixel method",
+        description="Tighten IN exactly and on pixels (the paper's level-set flow) on the same grid, and "
+                    "print how far the two agree: Hausdorff distance, symmetric difference, topology.",
+        epilog=_EPILOG_COMPARE, formatter_class=argparse.RawDescriptionHelpFormatter)
+    cmp_.add_argument("input", type=Path, metavar="IN", help="input file (.svg, .wkt, .geojson, .json)")
+    cmp_.add_argument("-r", "--radius", type=_positive_float, required=True, metavar="R",
+                      help="the tightening radius, in the input's units")
+    cmp_.add_argument("--pixel-size", type=_positive_float, default=None, metavar="P",
+                      help="pixel side, in the input's units (default R/20)")
+    cmp_.add_argument("--init", choices=("core", "input", "mason"), default="core",
+                      help="initial condition of both flows (default: core)")
+    cmp_.add_argument("--plot", type=Path, default=None, metavar="OUT.png",
+                      help="also draw the input with its mortar, both results and their difference")
+
+
+def _cmd_compare(args) -> int:
+    from . import io
+    from .crosscheck import crosscheck, plot_crosscheck
+
+    if args.plot is not None and args.plot.suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise UsageError(f"{str(args.plot)!r}: the plot must be .png, .svg or .pdf")
+    shape = io.read_shape(args.input)
+    pixel = args.pixel_size or args.radius / 20
+    check = crosscheck(shape, args.radius, pixel_size=pixel, init=args.init)
+    print(check.table())
+    if args.plot is not None:
+        plot_crosscheck(check, args.plot, S=shape)
+        print(f"plot: {args.plot}")
+    return 0
+
+
+# ---------------------------------------------------------------------------------------------------------
+# figures
+# ---------------------------------------------------------------------------------------------------------
+def _add_figures(sub) -> None:
+    fig = sub.add_parser(
+        "figures", help="redraw the paper's figures (1-9) and the comparison figure",
+        description="Redraw every figure script of the checkout's figures/ folder into DIR.",
+        epilog="examples:\n  vectortighten figures -o figs\n  vectortighten figures -o figs --only fig7_cusps",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    fig.add_argument("-o", "--output", required=True, type=Path, metavar="DIR",
+                     help="folder to write into (created if its parent exists)")
+    fig.add_argument("--only", nargs="+", default=None, metavar="NAME", help="only these figures")
+
+
+def _cmd_figures(args) -> int:
+    import importlib.util
+
+    script = Path(__file__).resolve().parent.parent / "figures" / "make_all.py"
+    if not script.is_file():
+        raise UsageError("the figure scripts live in the source checkout's figures/ folder, which this "
+                         "installation does not have; install from a clone with pip install -e .")
+    _out_folder(args.output)
+    spec = importlib.util.spec_from_file_location("_vectortighten_figures", script)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    if args.only:
+        unknown = sorted(set(args.only) - set(module.FIGURES))
+        if unknown:
+            raise UsageError(f"unknown figure(s) {', '.join(unknown)}; known: {', '.join(module.FIGURES)}")
+    for path in module.run_all(args.output, names=args.only):
+        print(path)
+    return 0
+
+
+# ---------------------------------------------------------------------------------------------------------
 # Dispatch
 # ---------------------------------------------------------------------------------------------------------
 #: Subcommands: name -> (add its sub-parser to the ``add_subparsers`` object, run it and return the code).
 COMMANDS = {
     "demo": (_add_demo, _cmd_demo),
     "tighten": (_add_tighten, _cmd_tighten),
+    "compare": (_add_compare, _cmd_compare),
+    "figures": (_add_figures, _cmd_figures),
 }
 
 

@@ -8,6 +8,7 @@ either is right; where they disagree, one of them is wrong.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -16,7 +17,7 @@ from scipy import ndimage
 
 from ._validation import check_radius, check_shape
 
-__all__ = ["CrossCheck", "crosscheck"]
+__all__ = ["AGREE_PX", "CrossCheck", "crosscheck", "plot_crosscheck"]
 
 #: The agreement the project promises: boundaries within this many pixels (Hausdorff), equal topology.
 AGREE_PX = 2.0
@@ -154,3 +155,67 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core") -> CrossCh
                       symmetric_difference_px=int((vmask ^ RT.mask).sum()), mortar_px=int(RT.mortar.sum()),
                       vector_topology=(T.n_components, T.n_holes), raster_topology=_topology(RT.mask),
                       vector=T, raster=RT, grid=grid, vector_mask=vmask)
+
+
+def plot_crosscheck(check: CrossCheck, path, *, S=None) -> None:
+    """Draw a `CrossCheck` in three panels and write it (PNG or SVG by extension), atomically.
+
+    Panels: the input with its mortar; the two results overlaid (vector loops and the raster's sub-pixel
+    contour); where they differ, pixel by pixel.
+
+    Parameters
+    ----------
+    check : CrossCheck
+    path : str or Path
+        Output image; its folder must exist.
+    S : shapely geometry, optional
+        The input, drawn in the first panel.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import ListedColormap
+
+    import raster
+
+    from .io import atomic_path
+    from .plotting import COLORS, draw_geometry, draw_loops
+
+    T, RT, grid = check.vector, check.raster, check.grid
+    x0, y0, x1, y1 = grid.bounds
+    extent = (x0, x1, y0, y1)
+    fig, axes = plt.subplots(1, 3, figsize=(15, 5.2), constrained_layout=True)
+    ax = axes[0]
+    draw_geometry(ax, T.mortar, facecolor=COLORS["mortar"], edgecolor="none")
+    draw_geometry(ax, T.core, facecolor=COLORS["core"], edgecolor="none")
+    if S is not None:
+        draw_geometry(ax, S, facecolor="none", edgecolor=COLORS["input"], linewidth=0.8)
+    ax.set_title(f"input, core (dark) and mortar (grey), r = {check.r:g}", fontsize=9)
+    ax = axes[1]
+    draw_loops(ax, T.loops, tolerance=T.tolerance, linewidth=1.6, label="vector (exact)")
+    contour = raster.contours(RT, grid)
+    draw_geometry(ax, contour, facecolor="none", edgecolor=COLORS["raster"], linewidth=1.0, linestyle="--")
+    ax.plot([], [], color=COLORS["raster"], linestyle="--", label="raster (pixel flow)")
+    ax.legend(loc="upper right", fontsize=8)
+    ax.set_title(f"init={check.init!r}: vector {check.vector_topology}, raster {check.raster_topology} "
+                 f"(components, holes)", fontsize=9)
+    ax = axes[2]
+    diff = np.zeros(RT.mask.shape, dtype=np.uint8)
+    diff[check.vector_mask & RT.mask] = 1
+    diff[check.vector_mask & ~RT.mask] = 2
+    diff[~check.vector_mask & RT.mask] = 3
+    ax.imshow(diff, origin="upper", extent=extent, interpolation="nearest", vmin=0, vmax=3,
+              cmap=ListedColormap(["white", "0.85", COLORS["tight"], COLORS["raster"]]))
+    ax.set_title(f"difference: {check.symmetric_difference_px} px "
+                 f"({100 * check.symmetric_difference_share:.2g}% of the mortar), "
+                 f"Hausdorff {check.hausdorff_px:.3g} px", fontsize=9)
+    for ax in axes:
+        ax.set_aspect("equal")
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
+        ax.set_xticks([])
+        ax.set_yticks([])
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format=Path(path).suffix.lstrip(".").lower() or "png")
+    plt.close(fig)

@@ -1,0 +1,86 @@
+"""Vector against raster on small cases: where the definition leaves no room, the two must agree."""
+
+import math
+
+import pytest
+import shapely
+from shapely.geometry import Point, Polygon, box
+
+import vectortighten as vt
+from vectortighten.crosscheck import AGREE_PX, crosscheck
+
+CASES = {
+    "L-shape": (Polygon([(0, 0), (12, 0), (12, 5), (5, 5), (5, 12), (0, 12)]), 1.5),
+    "square with small hole": (box(0, 0, 10, 10).difference(Point(5, 5).buffer(0.6, quad_segs=16)), 1.0),
+}
+
+
+@pytest.mark.parametrize("init", ["core", "input"])
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_vector_and_raster_agree(name, init):
+    S, r = CASES[name]
+    c = crosscheck(S, r, pixel_size=r / 20, init=init)
+    assert c.same_topology, (c.vector_topology, c.raster_topology)
+    assert c.hausdorff_px <= AGREE_PX
+    assert c.agree
+    # The two agree within a few pixels' width along the boundary.
+    assert c.symmetric_difference_px <= 3 * c.vector.perimeter / c.pixel_size
+
+
+@pytest.mark.xfail(reason="known raster weakness (README, cross-check): the pixel flow's fronts merge across "
+                          "a 16-pixel gap at full resolution; the vector result (two rounded squares) is "
+                          "the definition's", strict=True)
+@pytest.mark.parametrize("init", ["core", "input"])
+def test_two_squares_a_gap_apart(init):
+    S = shapely.union(box(0, 0, 6, 6), box(6.8, 0, 12.8, 6))
+    c = crosscheck(S, 1.0, pixel_size=0.05, init=init)
+    assert c.vector_topology == (2, 0)
+    assert c.raster_topology == (2, 0)
+
+
+def test_bar_between_squares_from_the_core():
+    """From the core the bar (thinner than 2r) is never entered: two rounded squares in both."""
+    S = shapely.union_all([box(0, 0, 6, 6), box(10, 0, 16, 6), box(6, 2.7, 10, 3.3)])
+    c = crosscheck(S, 1.0, pixel_size=0.05, init="core")
+    assert c.vector_topology == c.raster_topology == (2, 0)
+
+
+@pytest.mark.xfail(reason="known raster weakness (README, cross-check): from the input, the bar is held "
+                          "between two parts of the anticore and its straight sides do not move under the "
+                          "continuous flow (the vector result keeps it, one component); the pixel flow "
+                          "loses a bar a dozen pixels thick", strict=True)
+def test_bar_between_squares_from_the_input():
+    S = shapely.union_all([box(0, 0, 6, 6), box(10, 0, 16, 6), box(6, 2.7, 10, 3.3)])
+    c = crosscheck(S, 1.0, pixel_size=0.05, init="input")
+    assert c.vector_topology == (1, 0)
+    assert c.raster_topology == (1, 0)
+
+
+@pytest.mark.xfail(reason="known raster weakness (README, cross-check): pixel-centre morphology puts the "
+                          "fillet arcs where the bar meets the squares up to ~1.5 px off, and the boundaries "
+                          "end 2.16 px apart, just over the 2 px target", strict=True)
+def test_bar_between_squares_within_target():
+    S = shapely.union_all([box(0, 0, 6, 6), box(10, 0, 16, 6), box(6, 2.7, 10, 3.3)])
+    assert crosscheck(S, 1.0, pixel_size=0.05).hausdorff_px <= AGREE_PX
+
+
+def test_topology_counts():
+    S = box(0, 0, 10, 10).difference(box(3, 3, 7, 7))
+    c = crosscheck(S, 1.0, pixel_size=0.1)
+    assert c.vector_topology == c.raster_topology == (1, 1)
+    # The square ring's tightening is its core: exact perimeter from the corner formula.
+    assert c.vector.perimeter == pytest.approx(40 + 16 - 2 * (8 - 2 * math.pi), rel=1e-12)
+
+
+def test_table_mentions_everything():
+    c = crosscheck(box(0, 0, 4, 4), 1.0, pixel_size=0.1)
+    text = c.table()
+    for word in ("Hausdorff", "symmetric difference", "components", "agree"):
+        assert word in text
+
+
+def test_bad_pixel_size():
+    with pytest.raises(ValueError, match="pixel_size"):
+        crosscheck(box(0, 0, 4, 4), 1.0, pixel_size=0)
+    with pytest.raises(ValueError, match="too coarse|grid"):
+        crosscheck(box(0, 0, 1e-3, 1e-3), 1e-4, pixel_size=1.0)
