@@ -171,3 +171,13 @@ def test_opening_and_closing_are_idempotent_up_to_chords(S):
         return
     RR = vt.core(R, r)
     assert R.symmetric_difference(RR).area <= 1e-3 * R.area
+
+
+def test_pockets_joined_by_slivers_are_separate():
+    """Two notches' pockets meet where the chords of the core's and fillet's arcs leave a sliver; they are
+    still two components of the mortar's interior, and Mason chooses for each on its own."""
+    S = Polygon([(0, 0), (18, 0), (18, 9), (10, 9), (8.6, 7), (7.2, 9), (0, 9)])
+    P = vt.pockets(S, 1.0)
+    assert len(P) == 7                     # four outer corners, the notch's tip and its two shoulders
+    M = vt.mason(S, 1.0)
+    assert M.is_valid and M.covers(vt.core(S, 1.0)) and vt.fillet(S, 1.0).covers(M)

@@ -6,8 +6,6 @@ a second part, a spike and a tiny island; with `DEMO_RADIUS` each of them shows 
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import shapely
@@ -40,14 +38,10 @@ def demo_shape() -> Polygon:
 
 def _save(fig, path: Path) -> None:
     """Write a figure to ``path`` through a temporary file in the same folder, then rename it."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
-    os.close(fd)
-    try:
-        fig.savefig(tmp, dpi=110, bbox_inches="tight")
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    from .io import atomic_path
+
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, bbox_inches="tight", format=path.suffix.lstrip("."))
 
 
 def run_demo(outdir, *, r: float = DEMO_RADIUS) -> list[Path]:

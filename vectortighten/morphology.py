@@ -468,7 +468,24 @@ def pockets(S, r: float, *, tolerance: float | None = None) -> list[Polygon]:
     >>> len(pockets(box(0, 0, 4, 4), 1.0))                    # one per corner
     4
     """
-    return list(shapely.get_parts(mortar(S, r, tolerance=tolerance)))
+    S, r, q = _prepare(S, r, tolerance)
+    M = _polygonal(shapely.difference(_fillet(S, r, q), _core(S, r, q)))
+    return _pockets(M, 2.0 * check_tolerance(tolerance, r))
+
+
+def _pockets(M: Polygonal, eps: float) -> list[Polygon]:
+    """The components of M's interior: parts of M joined only by slivers narrower than ``2·eps``, which
+    the chord approximations of the core's and the fillet's arcs leave where two pockets meet, are
+    separated (each part keeps the material within ``2·eps`` of its opened interior)."""
+    parts = list(shapely.get_parts(M))
+    if not parts:
+        return []
+    opened = [p for p in shapely.get_parts(_polygonal(M.buffer(-eps, join_style="mitre"))) if not p.is_empty]
+    if len(opened) <= len(parts):
+        return parts
+    pieces = shapely.intersection(shapely.buffer(opened, 2 * eps, join_style="mitre"), M)
+    return [g for p in pieces for g in shapely.get_parts(_polygonal(p))
+            if g.geom_type == "Polygon" and g.area > 0]
 
 
 def mason(S, r: float, *, tolerance: float | None = None) -> Polygonal:
@@ -498,7 +515,7 @@ def mason(S, r: float, *, tolerance: float | None = None) -> Polygonal:
         return R
     RF = _core(F, r, q)
     FR = _fillet(R, r, q) if not R.is_empty else R
-    parts = list(shapely.get_parts(M))
+    parts = _pockets(M, 2.0 * check_tolerance(tolerance, r))
     in_s = shapely.intersection(parts, S)
     in_rf = shapely.intersection(parts, RF)
     in_fr = shapely.intersection(parts, FR)
@@ -509,4 +526,5 @@ def mason(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     # shared boundaries are merged by the union itself (they come from the same polygons).
     out = shapely.union_all([R, *chosen])
     out = _polygonal(shapely.intersection(_polygonal(out), F))
-    return _orient(_polygonal(shapely.union(out, R)))
+    out = _polygonal(shapely.union(out, R))
+    return _orient(_nudge(out, R, into=False))
