@@ -137,9 +137,9 @@ def fast_disk_loops(S, r: float, q: int, init: str):
     F = _m._polygonal(G.buffer(-r, quad_segs=q))
     if not _arcs_clear(D, R, F):
         return None
-    if init != "input" and not _reaches_edges(D, E, 1):
+    if init != "input" and not _reaches_edges(D, S, 1):
         return None
-    if init == "mason" and not _reaches_edges(D, G, -1):
+    if init == "mason" and not _reaches_edges(D, S, -1):
         return None
     return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl]) for sl in D.slices]
 
@@ -151,34 +151,83 @@ def _boundary(P):
     return b
 
 
+def _segment_distances(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distances between segments p→q and a→b, row by row (0 where they cross)."""
+
+    def point_seg(x, s0, s1):
+        d = s1 - s0
+        L2 = (d * d).sum(axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            t = np.clip(((x - s0) * d).sum(axis=1) / L2, 0.0, 1.0)
+        t = np.where(L2 > 0, t, 0.0)
+        return np.hypot(*(x - s0 - t[:, None] * d).T)
+
+    def orient(o, u, v):
+        return (u[:, 0] - o[:, 0]) * (v[:, 1] - o[:, 1]) - (u[:, 1] - o[:, 1]) * (v[:, 0] - o[:, 0])
+
+    dist = np.minimum.reduce([point_seg(p, a, b), point_seg(q, a, b), point_seg(a, p, q), point_seg(b, p, q)])
+    cross = (orient(p, q, a) * orient(p, q, b) < 0) & (orient(a, b, p) * orient(a, b, q) < 0)
+    return np.where(cross, 0.0, dist)
+
+
+def _closer_than(D: _Rings, p: np.ndarray, q: np.ndarray, limit: float) -> bool:
+    """Whether any edge of S comes closer than ``limit`` to any of the segments p→q (points when p = q).
+
+    Exact and fast on dense rings: an edge shorter than h that comes within ``limit`` of a segment has an
+    end within sqrt(limit² + (h/2)²) of it, so a k-d tree over the vertices finds the few candidates (in
+    a thin shell when the segment keeps its distance); the rare longer edges are tested with an STRtree.
+    """
+    edge_a, edge_b = D.v, D.v[D.next]
+    # The shell sqrt(limit² + h²/4) − limit ≈ h²/(8·limit) is thin when h is near the typical edge length.
+    h = float(np.clip(2.0 * np.percentile(D.ell, 95), limit / 1024, limit / 8))
+    short = D.ell <= h
+    half = 0.5 * np.hypot(*(q - p).T)
+    mid = 0.5 * (p + q)
+    reach = np.sqrt(limit * limit + 0.25 * h * h)
+    if short.any():
+        tree = cKDTree(D.v)
+        # Group the segments by length so that each ball query has a tight radius.
+        order = np.argsort(half)
+        for chunk in np.array_split(order, max(1, len(order) // 4096)):
+            if len(chunk) == 0:
+                continue
+            radius = reach + float(half[chunk].max())
+            hits = cKDTree(mid[chunk]).sparse_distance_matrix(tree, radius, output_type="ndarray")
+            if len(hits) == 0:
+                continue
+            seg, vert = chunk[hits["i"]], hits["j"]
+            # The two edges at each candidate vertex: the one leaving it and the one arriving.
+            for e in (vert, D.prev[vert]):
+                ok = short[e]
+                if ok.any() and (_segment_distances(p[seg[ok]], q[seg[ok]], edge_a[e[ok]], edge_b[e[ok]])
+                                 < limit).any():
+                    return True
+    if (~short).any():
+        long_edges = shapely.linestrings(np.stack([edge_a[~short], edge_b[~short]], axis=1))
+        probes = shapely.linestrings(np.stack([p, q + (p == q).all(axis=1)[:, None] * 1e-300], axis=1))
+        hits = shapely.STRtree(long_edges).query(probes, predicate="dwithin", distance=limit)
+        if hits.shape[1]:
+            i, j = hits
+            e = np.flatnonzero(~short)[j]
+            if (_segment_distances(p[i], q[i], edge_a[e], edge_b[e]) < limit).any():
+                return True
+    return False
+
+
 def _centers_valid(D: _Rings, S, E, G) -> bool:
     """Every disk lies in S at distance ≥ r from its boundary (convex vertices) or outside, at distance
-    ≥ r from S (reflex vertices)."""
+    ≥ r from S (reflex vertices).
+
+    Decided exactly (up to rounding, `_EXACT`) from the edges of S, not from the buffered shrink and grow:
+    GEOS simplifies a buffer's input by up to r/100, which on dense rings moves them further than any
+    slack could allow.
+    """
     r = D.r
     inner = D.side > 0
     inside = shapely.contains_xy(S, D.c[:, 0], D.c[:, 1])
     if (inner != inside).any():
         return False
-    # The shrink (grow) decides, for each centre moved a hair (1e-6·r) further from S's boundary so that it
-    # lies strictly inside the shrink (outside the grow) unless it is not a valid centre. The shrink's
-    # chords err only near arcs, i.e. near the vertices of the other kind, which are tested exactly below.
-    bis = D.n[D.prev] + D.n
-    bis /= np.hypot(*bis.T)[:, None]
-    moved = D.c + (D.side * _GEOS * r)[:, None] * bis
-    if E.is_empty and inner.any():
-        return False
-    if inner.any() and not shapely.contains_xy(E, moved[inner, 0], moved[inner, 1]).all():
-        return False
-    if (~inner).any() and shapely.intersects_xy(G, moved[~inner, 0], moved[~inner, 1]).any():
-        return False
-    for side in (1, -1):
-        mine = np.flatnonzero(D.side == side)
-        other = np.flatnonzero(D.side != side)
-        if len(mine) and len(other):
-            near = cKDTree(D.v[other]).query_ball_point(D.c[mine], r * (1 - _EXACT), return_length=True)
-            if (near > 0).any():
-                return False
-    return True
+    return not _closer_than(D, D.c, D.c, r * (1 - _EXACT))
 
 
 def _arcs_clear(D: _Rings, R, F) -> bool:
@@ -204,13 +253,14 @@ def _arcs_clear(D: _Rings, R, F) -> bool:
     return not np.any(in_core) and bool(np.all(in_fillet))
 
 
-def _reaches_edges(D: _Rings, P, side: int) -> bool:
+def _reaches_edges(D: _Rings, S, side: int) -> bool:
     """Every straight piece lies on the boundary of the core (side +1) or of the anticore (side −1).
 
     The piece on edge i runs between the tangent points of the disks at its ends. The core touches all of
-    it when the piece moved inwards by r lies in the shrink, the anticore when moved outwards it lies
-    outside the grow. Needed for ``init="core"`` (the core's rings must be the rings of S) and, with both
-    sides, for ``"mason"``.
+    it when the piece moved inwards by r is a segment of centres of disks inside S: it lies in S and no
+    edge of S comes closer to it than r (its own edge is exactly r away). The anticore likewise, moved
+    outwards and outside S. Decided exactly from the edges of S. Needed for ``init="core"`` (the core's
+    rings must be the rings of S) and, with both sides, for ``"mason"``.
     """
     r = D.r
     keep = D.length > 0
@@ -218,44 +268,7 @@ def _reaches_edges(D: _Rings, P, side: int) -> bool:
         return True
     a = D.c[keep] - (D.side[keep] * r)[:, None] * D.n[keep] + side * r * D.n[keep]
     b = a + np.maximum(D.length[keep], 0)[:, None] * D.u[keep]
-    # Sample each moved piece (its ends, and every r/4) pushed a hair (1e-6·r) further from S's boundary:
-    # strictly inside the shrink (outside the grow) when the core (anticore) reaches the piece.
-    count = np.maximum(1, np.ceil(D.length[keep] / (0.25 * r)).astype(np.int64))
-    owner = np.repeat(np.arange(len(a)), count + 1)
-    first = np.repeat(np.cumsum(count + 1) - (count + 1), count + 1)
-    f = (np.arange(len(owner)) - first) / np.repeat(count, count + 1)
-    # At an end where the disk is on this side, the moved piece ends at that disk's centre, a corner of
-    # the shrink (grow): push along the corner's bisector there, along the edge's normal elsewhere.
-    idx = np.flatnonzero(keep)
-    bis = D.n[D.prev] + D.n
-    bis /= np.hypot(*bis.T)[:, None]
-    push = np.repeat(D.n[idx], count + 1, axis=0)
-    at_start, at_end = f == 0, f == 1
-    i0, i1 = idx[owner], D.next[idx[owner]]
-    corner0 = at_start & (D.side[i0] == side)
-    corner1 = at_end & (D.side[i1] == side)
-    push[corner0] = bis[i0[corner0]]
-    push[corner1] = bis[i1[corner1]]
-    pts = a[owner] + f[:, None] * (b - a)[owner] + (side * _GEOS * r) * push
-    if side > 0:
-        if P.is_empty or not shapely.contains_xy(P, pts[:, 0], pts[:, 1]).all():
-            return False
-    elif shapely.intersects_xy(P, pts[:, 0], pts[:, 1]).any():
+    mid = 0.5 * (a + b)
+    if (shapely.contains_xy(S, mid[:, 0], mid[:, 1]) != (side > 0)).any():
         return False
-    # Exactly: the moved pieces keep distance r from the vertices of the other kind (the only features
-    # the coarse buffer approximates).
-    other = D.v[D.side != side]
-    if len(other):
-        mid = 0.5 * (a + b)
-        reach = 0.5 * float(np.hypot(*(b - a).T).max()) + r
-        pairs = cKDTree(mid).sparse_distance_matrix(cKDTree(other), reach, output_type="ndarray")
-        if len(pairs):
-            k, j = pairs["i"], pairs["j"]
-            d = b[k] - a[k]
-            L2 = (d * d).sum(axis=1)
-            with np.errstate(invalid="ignore", divide="ignore"):
-                t = np.clip(((other[j] - a[k]) * d).sum(axis=1) / L2, 0, 1)
-            t = np.where(L2 > 0, t, 0.0)
-            if (np.hypot(*(other[j] - a[k] - t[:, None] * d).T) < r * (1 - _EXACT)).any():
-                return False
-    return True
+    return not _closer_than(D, a, b, r * (1 - _EXACT))
