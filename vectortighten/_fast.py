@@ -89,6 +89,13 @@ class _Rings:
         self.length = self.ell - self.t - self.t[self.next]             # straight piece on edge i
         self.phi = np.arctan2(self.u[:, 1], self.u[:, 0])
 
+    @property
+    def vertex_tree(self) -> cKDTree:
+        """A k-d tree over the vertices, built once for every exact proximity test."""
+        if getattr(self, "_vertex_tree", None) is None:
+            self._vertex_tree = cKDTree(self.v)
+        return self._vertex_tree
+
     def offsets(self, side: int) -> np.ndarray:
         """Edges moved by r into S (side +1) or out of it (−1), cut at the disks' centres on that side.
 
@@ -185,7 +192,7 @@ def _closer_than(D: _Rings, p: np.ndarray, q: np.ndarray, limit: float) -> bool:
     mid = 0.5 * (p + q)
     reach = np.sqrt(limit * limit + 0.25 * h * h)
     if short.any():
-        tree = cKDTree(D.v)
+        tree = D.vertex_tree
         # Group the segments by length so that each ball query has a tight radius.
         order = np.argsort(half)
         for chunk in np.array_split(order, max(1, len(order) // 4096)):
