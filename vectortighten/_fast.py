@@ -93,7 +93,7 @@ class _Rings:
     def vertex_tree(self) -> cKDTree:
         """A k-d tree over the vertices, built once for every exact proximity test."""
         if getattr(self, "_vertex_tree", None) is None:
-            self._vertex_tree = cKDTree(self.v)
+            self._vertex_tree = _tree(self.v)
         return self._vertex_tree
 
     def offsets(self, side: int) -> np.ndarray:
@@ -177,38 +177,46 @@ def _segment_distances(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarra
     return np.where(cross, 0.0, dist)
 
 
+def _tree(points: np.ndarray) -> cKDTree:
+    """A k-d tree split at sliding midpoints rather than medians: on points strung along curves, and with
+    queries at a fixed distance from them, its boxes hug the curve and searches visit several times fewer
+    of them (about 6× faster on a 100k-vertex ring)."""
+    return cKDTree(points, balanced_tree=False, compact_nodes=False)
+
+
 def _closer_than(D: _Rings, p: np.ndarray, q: np.ndarray, limit: float) -> bool:
     """Whether any edge of S comes closer than ``limit`` to any of the segments p→q (points when p = q).
 
-    Exact and fast on dense rings: an edge shorter than h that comes within ``limit`` of a segment has an
-    end within sqrt(limit² + (h/2)²) of it, so a k-d tree over the vertices finds the few candidates (in
-    a thin shell when the segment keeps its distance); the rare longer edges are tested with an STRtree.
+    Exact, and fast on dense rings, in two passes:
+
+    1. the end points. An edge shorter than h that comes within ``limit`` of a point x has an end within
+       sqrt(limit² + h²/4) of x (at the edge's point nearest x the edge is perpendicular to the way to x);
+       a k-d tree over the vertices finds the few candidates in that thin shell;
+    2. the interiors, once no edge comes near an end. An edge point y within ``limit`` of the segment
+       whose nearest segment point is interior lies within sqrt(limit² + half²) of the midpoint (half =
+       half the segment's length), so by the same argument the edge has an end within
+       sqrt(limit² + half² + h²/4) of the midpoint. This ball hugs the segment's neighbourhood minus the
+       end disks: its shell is (half² + h²/4)/(2·limit) thick, not half + h²/(8·limit), which keeps the
+       candidates few even where the ring runs at nearly distance ``limit`` for a long way (a ring whose
+       curvature radius is close to r).
+
+    The rare edges longer than h are tested with an STRtree.
     """
     edge_a, edge_b = D.v, D.v[D.next]
     # The shell sqrt(limit² + h²/4) − limit ≈ h²/(8·limit) is thin when h is near the typical edge length.
     h = float(np.clip(2.0 * np.percentile(D.ell, 95), limit / 1024, limit / 8))
     short = D.ell <= h
-    half = 0.5 * np.hypot(*(q - p).T)
-    mid = 0.5 * (p + q)
-    reach = np.sqrt(limit * limit + 0.25 * h * h)
     if short.any():
         tree = D.vertex_tree
-        # Group the segments by length so that each ball query has a tight radius.
-        order = np.argsort(half)
-        for chunk in np.array_split(order, max(1, len(order) // 4096)):
-            if len(chunk) == 0:
-                continue
-            radius = reach + float(half[chunk].max())
-            hits = cKDTree(mid[chunk]).sparse_distance_matrix(tree, radius, output_type="ndarray")
-            if len(hits) == 0:
-                continue
-            seg, vert = chunk[hits["i"]], hits["j"]
-            # The two edges at each candidate vertex: the one leaving it and the one arriving.
-            for e in (vert, D.prev[vert]):
-                ok = short[e]
-                if ok.any() and (_segment_distances(p[seg[ok]], q[seg[ok]], edge_a[e[ok]], edge_b[e[ok]])
-                                 < limit).any():
-                    return True
+        segment = (p != q).any(axis=1)
+        ends = np.concatenate([p, q[segment]])
+        if _near_short_edges(D, tree, ends, ends, np.zeros(len(ends)), limit, h, short):
+            return True
+        if segment.any():
+            a, b = p[segment], q[segment]
+            half = 0.5 * np.hypot(*(b - a).T)
+            if _near_short_edges(D, tree, a, b, half, limit, h, short):
+                return True
     if (~short).any():
         long_edges = shapely.linestrings(np.stack([edge_a[~short], edge_b[~short]], axis=1))
         probes = shapely.linestrings(np.stack([p, q + (p == q).all(axis=1)[:, None] * 1e-300], axis=1))
@@ -217,6 +225,42 @@ def _closer_than(D: _Rings, p: np.ndarray, q: np.ndarray, limit: float) -> bool:
             i, j = hits
             e = np.flatnonzero(~short)[j]
             if (_segment_distances(p[i], q[i], edge_a[e], edge_b[e]) < limit).any():
+                return True
+    return False
+
+
+def _near_short_edges(D: _Rings, tree: cKDTree, p: np.ndarray, q: np.ndarray, half: np.ndarray,
+                      limit: float, h: float, short: np.ndarray) -> bool:
+    """Whether an edge of length ≤ h comes closer than ``limit`` to a segment p→q, testing the edges at
+    the vertices within sqrt(limit² + half² + h²/4) of each midpoint (see `_closer_than`)."""
+    mid = 0.5 * (p + q)
+    edge_a, edge_b = D.v, D.v[D.next]
+    # Group the segments by length (within a factor of two) so that each ball query has a tight radius,
+    # and keep them in ring order within a group so that each chunk's tree covers a compact region.
+    level = np.floor(np.log2(np.maximum(half, 1e-300))).astype(np.int64)
+    order = np.lexsort((np.arange(len(half)), level))
+    cuts = np.flatnonzero(np.diff(level[order])) + 1
+    groups = [g for part in np.split(order, cuts) for g in np.array_split(part, max(1, len(part) // 4096))]
+    for chunk in groups:
+        if len(chunk) == 0:
+            continue
+        radius = math.sqrt(limit * limit + float(half[chunk].max()) ** 2 + 0.25 * h * h)
+        hits = _tree(mid[chunk]).sparse_distance_matrix(tree, radius, output_type="ndarray")
+        if len(hits) == 0:
+            continue
+        seg, vert = chunk[hits["i"]], hits["j"]
+        # The two edges at each candidate vertex: the one leaving it and the one arriving.
+        for e in (vert, D.prev[vert]):
+            s, e = seg[short[e]], e[short[e]]
+            # Most candidates are settled by the edge's line: a segment with both ends on one side of
+            # it, at least ``limit`` away, is that far from the edge too. The rest get the exact distance.
+            ea, d = edge_a[e], edge_b[e] - edge_a[e]
+            sp = (d[:, 0] * (p[s, 1] - ea[:, 1]) - d[:, 1] * (p[s, 0] - ea[:, 0]))
+            sq = (d[:, 0] * (q[s, 1] - ea[:, 1]) - d[:, 1] * (q[s, 0] - ea[:, 0]))
+            reach = limit * np.hypot(d[:, 0], d[:, 1])
+            far = ((sp >= reach) & (sq >= reach)) | ((sp <= -reach) & (sq <= -reach))
+            s, e = s[~far], e[~far]
+            if len(s) and (_segment_distances(p[s], q[s], edge_a[e], edge_b[e]) < limit).any():
                 return True
     return False
 
