@@ -1,14 +1,21 @@
 """The paper's morphology on binary images, through exact Euclidean distance transforms.
 
-Pixel-centre semantics. A mask stands for the set of its True pixels' centres, on the integer grid; the
-distance between two pixels is the Euclidean distance between their centres, computed exactly by
-`scipy.ndimage.distance_transform_edt` (squared distances are integers, so no rounding can break a
-relation). With ``d(p, X)`` the distance from pixel p to the nearest pixel of X:
+Pixel-square semantics. A mask stands for the union of its True pixels' unit squares, centred on the
+integer grid. The distance from a pixel's centre to such a union is the distance to the nearest True
+pixel's centre less ½ (exact along rows and columns, within 0.21 px diagonally), and distances between
+centres come exactly from `scipy.ndimage.distance_transform_edt` (squared distances are integers, so no
+rounding can break a relation). With ``d(p, X)`` the distance between centres from pixel p to the nearest
+pixel of X:
 
-* ``grow(M, r)``   = {p : d(p, M) < r}        (the paper's S↑r, open)
-* ``shrink(M, r)`` = {p : d(p, ¬M) ≥ r}       (S↓r, closed)
+* ``grow(M, r)``   = {p : d(p, M) < r + ½}     (the paper's S↑r: p's centre within r of M's squares)
+* ``shrink(M, r)`` = {p : d(p, ¬M) ≥ r + ½}    (S↓r: the disk of radius r at p's centre misses ¬M's squares)
 * ``core``  = grow(shrink(M)),  ``fillet`` = shrink(grow(M)),  ``mortar`` = fillet ∧ ¬core,
   ``anticore`` = ¬fillet.
+
+The half pixel matters: measured between centres, a bar 2r − 1 pixels wide would hold a disk of radius r
+and survive the core, one pixel more than it should; a rasterised shape's boundary lies half-way between
+its inside and outside pixels, and so does this one's. In particular a part exactly 2r wide has a shrink
+of zero width and vanishes, as it does in the exact engine.
 
 Hence ``core ⊆ M ⊆ fillet`` holds exactly and every operation is dual to its partner under complement:
 ``shrink(¬M) = ¬grow(M)`` and ``core(¬M) = anticore(M)``, pixel for pixel.
@@ -49,15 +56,15 @@ def _dist_to(mask: np.ndarray) -> np.ndarray:
 
 
 def _grow(M: np.ndarray, r: float) -> np.ndarray:
-    return _dist_to(M) < r
+    return _dist_to(M) < r + 0.5
 
 
 def _shrink(M: np.ndarray, r: float) -> np.ndarray:
-    return _dist_to(~M) >= r
+    return _dist_to(~M) >= r + 0.5
 
 
 def grow(mask, r):
-    """Pixels whose centre is closer than ``r`` to the centre of a True pixel (the paper's S↑r).
+    """Pixels whose centre is closer than ``r`` to a True pixel's square (the paper's S↑r).
 
     Parameters
     ----------
@@ -74,7 +81,7 @@ def grow(mask, r):
     --------
     >>> import numpy as np
     >>> m = np.zeros((5, 5), bool); m[2, 2] = True
-    >>> int(grow(m, 1.5).sum())       # the pixel and its 8 neighbours (distances 1 and √2)
+    >>> int(grow(m, 1.5).sum())       # the pixel, its 8 neighbours (1, √2) but not the next ring (2)
     9
     """
     M = check_mask(mask)
@@ -84,7 +91,7 @@ def grow(mask, r):
 
 
 def shrink(mask, r):
-    """Pixels whose centre is at least ``r`` from the centre of every False pixel (the paper's S↓r).
+    """Pixels where a disk of radius ``r`` at the centre misses every False pixel's square (S↓r).
 
     Parameters
     ----------
@@ -99,8 +106,8 @@ def shrink(mask, r):
     Examples
     --------
     >>> import numpy as np
-    >>> m = np.zeros((7, 7), bool); m[1:6, 1:6] = True
-    >>> int(shrink(m, 2).sum())       # the 3 × 3 centre of a 5 × 5 square
+    >>> m = np.zeros((9, 9), bool); m[1:8, 1:8] = True
+    >>> int(shrink(m, 2).sum())       # a 7 × 7 square: 2.5 px from each side leaves the 3 × 3 centre
     9
     """
     M = check_mask(mask)

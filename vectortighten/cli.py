@@ -481,6 +481,11 @@ def _add_compare(sub) -> None:
                       help="pixel side, in the input's units (default R/20)")
     cmp_.add_argument("--init", choices=("core", "input", "mason"), default="core",
                       help="initial condition of both flows (default: core)")
+    cmp_.add_argument("--levels", type=_positive_int, default=None, metavar="L",
+                      help="resolution levels of the pixel flow (default: the paper's multiscale; 1 = full "
+                           "resolution only, slower but more accurate)")
+    cmp_.add_argument("--iterations", type=_positive_int, default=100, metavar="N",
+                      help="steps of the pixel flow per level (default: the paper's 100)")
     cmp_.add_argument("--plot", type=Path, default=None, metavar="OUT.png",
                       help="also draw the input with its mortar, both results and their difference")
 
@@ -493,7 +498,8 @@ def _cmd_compare(args) -> int:
         raise UsageError(f"{str(args.plot)!r}: the plot must be .png, .svg or .pdf")
     shape = io.read_shape(args.input)
     pixel = args.pixel_size or args.radius / 20
-    check = crosscheck(shape, args.radius, pixel_size=pixel, init=args.init)
+    check = crosscheck(shape, args.radius, pixel_size=pixel, init=args.init, levels=args.levels,
+                       iterations=args.iterations)
     print(check.table())
     if args.plot is not None:
         plot_crosscheck(check, args.plot, S=shape)

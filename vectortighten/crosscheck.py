@@ -98,7 +98,8 @@ def _topology(mask: np.ndarray) -> tuple[int, int]:
     return int(n_in), int(n_out) - 1
 
 
-def crosscheck(S, r: float, *, pixel_size: float, init: str = "core") -> CrossCheck:
+def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: int | None = None,
+               iterations: int = 100) -> CrossCheck:
     """Tighten S exactly and on pixels, and compare the two on the same grid.
 
     The grid covers S's bounds grown by 2r plus two pixels, so nothing a tightening adds leaves it. S is
@@ -114,6 +115,11 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core") -> CrossCh
         Pixel side, in S's units. The raster method needs r of several pixels; ``r / 20`` or finer is
         what the project's agreement target assumes.
     init : {"core", "input", "mason"}
+    levels, iterations : int, optional
+        Passed to `raster.tighten`: resolution levels (default: the paper's multiscale scheme,
+        `raster.default_levels`) and steps a level (default the paper's 100). ``levels=1`` with a few
+        thousand steps runs the flow at full resolution only: slower, but free of the errors the coarse
+        levels leave (see the README's cross-check section).
 
     Returns
     -------
@@ -142,7 +148,7 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core") -> CrossCh
     mask, _ = raster.rasterize(S, grid)
     if not mask.any():
         raise ValueError(f"pixel_size {pixel_size:g} is too coarse: no pixel centre falls inside S")
-    RT = raster.tighten(mask, r / pixel_size, init=init)
+    RT = raster.tighten(mask, r / pixel_size, init=init, levels=levels, iterations=iterations)
     vmask, _ = raster.rasterize(T.geometry, grid) if not T.geometry.is_empty else (np.zeros_like(mask), grid)
     contour = raster.contours(RT, grid)
     if T.geometry.is_empty and contour.is_empty:
