@@ -349,3 +349,12 @@ def test_redundant_vertex_on_a_ledge_narrower_than_r_over_100():
     T1 = vt.tighten(with_redundant_vertices(S), 0.7)
     assert any(isinstance(p, vt.Arc) and p.center[0] > 3.8 for p in T0.loops[0].pieces)
     assert T1.perimeter == pytest.approx(T0.perimeter, rel=1e-9)
+
+
+def test_mason_of_a_shape_with_an_empty_core_is_empty():
+    # Found by hypothesis: every part is thinner than 2r, so the core is empty and Mason(S) is empty; the
+    # exactness nudge used to fail on the empty core.
+    S = Polygon([(1, 0), (0, 0), (0, 1), (0, 3), (3, 3), (3, 1), (1, 1), (1, 0)])
+    T = vt.tighten(S, 1.0 + 1e-6, init="mason")
+    assert T.geometry.is_empty and (T.n_components, T.n_holes) == (0, 0)
+    assert T.perimeter == 0.0 and T.verify() == []

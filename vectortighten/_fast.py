@@ -12,13 +12,13 @@ does not enter the core lies on its boundary (and symmetrically at reflex vertic
 a ring and its tightened loop is a union of corner cusps, none of which can hold a disk of radius r, so
 the loop is homotopic to the ring in the mortar.
 
-How the arcs are checked: points along each arc are tested against GEOS's opening and closing of S at
-the chosen tolerance. Their chords lie inside the exact arcs, so the opening is (up to GEOS's rounding)
-inside the exact core and the closing contains the exact fillet: a point found inside the opening (outside
-the closing) is a real violation, and a violation shallower than the chord error can go unseen — the
-result is then exact in structure within the tolerance. Centres and coverage are checked against the
-shrink and grow, with the vertices of the other kind (the only features those approximate) tested
-exactly.
+How it is checked: from the edges of S alone, never from GEOS's buffers (which simplify dense input by up
+to r/100, more than any slack could allow). Disk centres and straight pieces must keep distance r from
+every edge (`_closer_than`: a k-d tree over the vertices, exact distances for the few candidates); points
+along each arc must keep distance r from the shrink's boundary (convex vertices) or the grow's (reflex
+ones), which the offset edges and the arcs around the other kind of vertex contain (`_arcs_clear`). The
+arcs are sampled every π/16: a violation between two samples and shallower than the sampling's sagitta
+can go unseen.
 """
 
 from __future__ import annotations
@@ -29,14 +29,12 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from . import morphology as _m
 from .tolerances import ANGLE_ZERO
 
 __all__: list[str] = []
 
 _TWO_PI = 2.0 * math.pi
 _EXACT = 1e-9         # relative slack of the exact distance tests (rounding only)
-_GEOS = 1e-6          # relative slack for GEOS's placement of offset vertices
 
 
 def _clean_ring(c: np.ndarray) -> np.ndarray:
@@ -134,28 +132,15 @@ def fast_disk_loops(S, r: float, q: int, init: str):
         return None                                     # two disks do not fit on one edge
     length = np.maximum(D.length, 0.0)
     shapely.prepare(S)
-    E = _m._shrink_raw(S, r, q)
-    G = _m._grow_raw(S, r, q)
-    for P in (E, G):
-        shapely.prepare(P)
-    if not _centers_valid(D, S, E, G):
+    if not _centers_valid(D, S):
         return None
-    R = _m._polygonal(E.buffer(r, quad_segs=q)) if not E.is_empty else E
-    F = _m._polygonal(G.buffer(-r, quad_segs=q))
-    if not _arcs_clear(D, R, F):
+    if not _arcs_clear(D):
         return None
     if init != "input" and not _reaches_edges(D, S, 1):
         return None
     if init == "mason" and not _reaches_edges(D, S, -1):
         return None
     return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl]) for sl in D.slices]
-
-
-def _boundary(P):
-    """The boundary of P, prepared for repeated distance queries."""
-    b = P.boundary
-    shapely.prepare(b)
-    return b
 
 
 def _segment_distances(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -184,7 +169,7 @@ def _tree(points: np.ndarray) -> cKDTree:
     return cKDTree(points, balanced_tree=False, compact_nodes=False)
 
 
-def _closer_than(D: _Rings, p: np.ndarray, q: np.ndarray, limit: float) -> bool:
+def _closer_than(D: _Rings, p: np.ndarray, q: np.ndarray, limit: float, known=None) -> bool:
     """Whether any edge of S comes closer than ``limit`` to any of the segments p→q (points when p = q).
 
     Exact, and fast on dense rings, in two passes:
@@ -200,7 +185,8 @@ def _closer_than(D: _Rings, p: np.ndarray, q: np.ndarray, limit: float) -> bool:
        candidates few even where the ring runs at nearly distance ``limit`` for a long way (a ring whose
        curvature radius is close to r).
 
-    The rare edges longer than h are tested with an STRtree.
+    The rare edges longer than h are tested with an STRtree. ``known``, a pair of boolean arrays, marks
+    ends already found at least ``limit`` from every edge (disk centres); pass 1 skips them.
     """
     edge_a, edge_b = D.v, D.v[D.next]
     # The shell sqrt(limit² + h²/4) − limit ≈ h²/(8·limit) is thin when h is near the typical edge length.
@@ -209,7 +195,8 @@ def _closer_than(D: _Rings, p: np.ndarray, q: np.ndarray, limit: float) -> bool:
     if short.any():
         tree = D.vertex_tree
         segment = (p != q).any(axis=1)
-        ends = np.concatenate([p, q[segment]])
+        p_known, q_known = known if known is not None else (np.zeros(len(p), bool), np.zeros(len(q), bool))
+        ends = np.concatenate([p[~p_known], q[segment & ~q_known]])
         if _near_short_edges(D, tree, ends, ends, np.zeros(len(ends)), limit, h, short):
             return True
         if segment.any():
@@ -235,12 +222,11 @@ def _near_short_edges(D: _Rings, tree: cKDTree, p: np.ndarray, q: np.ndarray, ha
     the vertices within sqrt(limit² + half² + h²/4) of each midpoint (see `_closer_than`)."""
     mid = 0.5 * (p + q)
     edge_a, edge_b = D.v, D.v[D.next]
-    # Group the segments by length (within a factor of two) so that each ball query has a tight radius,
-    # and keep them in ring order within a group so that each chunk's tree covers a compact region.
+    # Group the segments by length (within a factor of two) so that each ball query has a tight radius.
     level = np.floor(np.log2(np.maximum(half, 1e-300))).astype(np.int64)
     order = np.lexsort((np.arange(len(half)), level))
     cuts = np.flatnonzero(np.diff(level[order])) + 1
-    groups = [g for part in np.split(order, cuts) for g in np.array_split(part, max(1, len(part) // 4096))]
+    groups = np.split(order, cuts)
     for chunk in groups:
         if len(chunk) == 0:
             continue
@@ -265,7 +251,7 @@ def _near_short_edges(D: _Rings, tree: cKDTree, p: np.ndarray, q: np.ndarray, ha
     return False
 
 
-def _centers_valid(D: _Rings, S, E, G) -> bool:
+def _centers_valid(D: _Rings, S) -> bool:
     """Every disk lies in S at distance ≥ r from its boundary (convex vertices) or outside, at distance
     ≥ r from S (reflex vertices).
 
@@ -281,11 +267,18 @@ def _centers_valid(D: _Rings, S, E, G) -> bool:
     return not _closer_than(D, D.c, D.c, r * (1 - _EXACT))
 
 
-def _arcs_clear(D: _Rings, R, F) -> bool:
+def _arcs_clear(D: _Rings) -> bool:
     """No arc enters the core (convex vertices) or the anticore (reflex vertices) elsewhere.
 
-    ``R`` and ``F`` are the chord-approximated opening and closing of S: points along each arc must lie
-    outside the opening (convex vertices) and inside the closing (reflex vertices).
+    Decided from the edges of S, not from GEOS's opening and closing (which simplify dense input by up to
+    r/100). A point x of a convex vertex's arc lies within r of that vertex, so not in the shrink; it is
+    in the (open) core exactly when it is closer than r to the shrink, that is to the shrink's boundary.
+    That boundary is made of points at distance exactly r from the boundary of S: on the edges moved
+    inwards by r or on circles of radius r around vertices, and of those only the edges cut at the disks'
+    centres and the arcs around the reflex vertices (`_Rings.offsets`, `_Rings.arcs`) can be in the
+    shrink; the rest is closer than r to a neighbouring edge. So an arc point at distance ≥ r from all of
+    them is outside the core. Reflex vertices likewise, outside S, against the grow. The arcs are tested
+    at points every π/16 at most (slightly outside their own disk, which the pieces at its centre touch).
     """
     r = D.r
     m = np.maximum(2, np.ceil(np.abs(D.theta) / (math.pi / 16)).astype(np.int64))
@@ -294,14 +287,85 @@ def _arcs_clear(D: _Rings, R, F) -> bool:
     frac = (np.arange(len(owner)) - first + 1) / np.repeat(m, m - 1)
     a0 = D.phi[D.prev] - D.side * (math.pi / 2)
     th = a0[owner] + D.theta[owner] * frac
-    # Just outside its own disk (by rounding-proof 1e-8·r), so that only another disk can cover a point.
+    # Just outside its own disk (by rounding-proof 1e-8·r): the pieces that meet at the disk's centre are
+    # then no nearer than r, and only another part of the shrink's (grow's) boundary can come nearer.
     probes = D.c[owner] + (r * (1 + 1e-8)) * np.column_stack([np.cos(th), np.sin(th)])
-    inner = D.side[owner] > 0
-    for P in (R, F):
-        shapely.prepare(P)
-    in_core = shapely.contains_xy(R, probes[inner, 0], probes[inner, 1]) if not R.is_empty else False
-    in_fillet = shapely.intersects_xy(F, probes[~inner, 0], probes[~inner, 1])
-    return not np.any(in_core) and bool(np.all(in_fillet))
+    limit = r * (1 - _EXACT)
+    for side in (1, -1):
+        x = probes[D.side[owner] == side]
+        if len(x) == 0:
+            continue
+        pieces = D.offsets(side)
+        if _points_near_segments(x, pieces[:, 0], pieces[:, 1], limit):
+            return False
+        centres, start, sweep = D.arcs(side)
+        if len(centres) and _points_near_arcs(x, centres, start, sweep, r, limit):
+            return False
+    return True
+
+
+def _point_segment_distances(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    d = b - a
+    L2 = (d * d).sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = np.clip(((x - a) * d).sum(axis=1) / L2, 0.0, 1.0)
+    t = np.where(L2 > 0, t, 0.0)
+    return np.hypot(*(x - a - t[:, None] * d).T)
+
+
+def _points_near_segments(x: np.ndarray, a: np.ndarray, b: np.ndarray, limit: float) -> bool:
+    """Whether any point x comes closer than ``limit`` to any segment a→b (exact).
+
+    A segment of length ≤ h within ``limit`` of x has its midpoint within sqrt(limit² + h²/4) of x (at
+    the segment's point nearest x, the segment is perpendicular to the way to x, or that point is an end);
+    a k-d tree over the midpoints gives the candidates. Longer segments go to an STRtree.
+    """
+    L = np.hypot(*(b - a).T)
+    h = float(np.clip(2.0 * np.percentile(L, 95), limit / 1024, limit / 8))
+    short = L <= h
+    if short.any():
+        idx = np.flatnonzero(short)
+        mid = 0.5 * (a[idx] + b[idx])
+        radius = math.sqrt(limit * limit + 0.25 * h * h)
+        hits = _tree(x).sparse_distance_matrix(_tree(mid), radius, output_type="ndarray")
+        if len(hits):
+            i, k = hits["i"], idx[hits["j"]]
+            if (_point_segment_distances(x[i], a[k], b[k]) < limit).any():
+                return True
+    if (~short).any():
+        idx = np.flatnonzero(~short)
+        hits = shapely.STRtree(shapely.linestrings(np.stack([a[idx], b[idx]], axis=1))).query(
+            shapely.points(x), predicate="dwithin", distance=limit)
+        if hits.shape[1]:
+            i, k = hits[0], idx[hits[1]]
+            if (_point_segment_distances(x[i], a[k], b[k]) < limit).any():
+                return True
+    return False
+
+
+def _points_near_arcs(x: np.ndarray, centres: np.ndarray, start: np.ndarray, sweep: np.ndarray, r: float,
+                      limit: float) -> bool:
+    """Whether any point x comes closer than ``limit`` to any arc of radius r (centre, start angle, signed
+    sweep), exactly: the distance to the circle where x's direction from the centre falls within the arc,
+    to the nearer end otherwise. Candidates: arcs whose midpoint is within limit + the half-arc's chord."""
+    half = 0.5 * sweep
+    mid = centres + r * np.column_stack([np.cos(start + half), np.sin(start + half)])
+    reach = limit + float((2.0 * r * np.abs(np.sin(0.5 * half))).max())
+    hits = _tree(x).sparse_distance_matrix(_tree(mid), reach, output_type="ndarray")
+    if len(hits) == 0:
+        return False
+    i, k = hits["i"], hits["j"]
+    p, c = x[i], centres[k]
+    rel = p - c
+    # Angle of x from the centre, measured from the arc's start in the sweep's direction.
+    ang = np.arctan2(rel[:, 1], rel[:, 0]) - start[k]
+    ang = np.where(sweep[k] >= 0, ang, -ang) % (2.0 * math.pi)
+    inside = ang <= np.abs(sweep[k])
+    d_circle = np.abs(np.hypot(*rel.T) - r)
+    e0 = c + r * np.column_stack([np.cos(start[k]), np.sin(start[k])])
+    e1 = c + r * np.column_stack([np.cos(start[k] + sweep[k]), np.sin(start[k] + sweep[k])])
+    d_ends = np.minimum(np.hypot(*(p - e0).T), np.hypot(*(p - e1).T))
+    return bool((np.where(inside, d_circle, d_ends) < limit).any())
 
 
 def _reaches_edges(D: _Rings, S, side: int) -> bool:
@@ -322,4 +386,6 @@ def _reaches_edges(D: _Rings, S, side: int) -> bool:
     mid = 0.5 * (a + b)
     if (shapely.contains_xy(S, mid[:, 0], mid[:, 1]) != (side > 0)).any():
         return False
-    return not _closer_than(D, a, b, r * (1 - _EXACT))
+    # Ends at a disk's centre were found r from every edge by `_centers_valid`.
+    known = (D.side[keep] == side, D.side[D.next[keep]] == side)
+    return not _closer_than(D, a, b, r * (1 - _EXACT), known)

@@ -167,8 +167,8 @@ def _nudge(geom: Polygonal, S: Polygonal, into: bool) -> Polygonal:
     that ``S.covers(geom)``; with ``into=False`` those of ``geom`` in S are pushed out, so that
     ``geom.covers(S)``.
     """
-    if geom.is_empty or (S.covers(geom) if into else geom.covers(S)):
-        return geom
+    if geom.is_empty or S.is_empty or (S.covers(geom) if into else geom.covers(S)):
+        return geom                                   # (nothing covers or is covered by the empty set)
     S = _orient(S)
     a, b = _edges(S)
     d = b - a
