@@ -152,18 +152,75 @@ class _Band:
         self.rim = (near & ~inner).ravel()[self.idx]
 
 
-def _speed(P: np.ndarray, idx: np.ndarray, W: int) -> np.ndarray:
+# Offsets within chessboard distance 4, nearest first: where a band pixel looks for the other side.
+_NEAR = sorted(((dr, dc) for dr in range(-4, 5) for dc in range(-4, 5) if (dr, dc) != (0, 0)),
+               key=lambda o: (o[0] ** 2 + o[1] ** 2, o))
+
+
+def _fronts(neg: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Which front each pixel near the band belongs to: the sign component it lies in, and the one across.
+
+    ``neg`` is the (padded) inside set, ``idx`` the band's flat indices. Returns flat arrays ``comp``
+    (inside components numbered 1, 2, …, outside ones −1, −2, …, both with 8-adjacency: parts touching
+    at a corner count as one, so the rule is the same for a set and its complement and the flow stays
+    self-dual) and ``owner``: at the band pixels and their neighbours, the component of the nearest pixel
+    of the other sign within four pixels (0 if none). A pixel's front is the boundary between its own
+    component and its owner.
+    """
+    eight = np.ones((3, 3), bool)
+    comp_in, _ = ndimage.label(neg, structure=eight)
+    comp_out, _ = ndimage.label(~neg, structure=eight)
+    comp = np.where(neg, comp_in, -comp_out).astype(np.int32).ravel()
+    owner = np.zeros_like(comp)
+    W = neg.shape[1]
+    mark = np.zeros(comp.size, dtype=bool)
+    for o in (-W - 1, -W, -W + 1, -1, 0, 1, W - 1, W, W + 1):
+        mark[np.clip(idx + o, 0, comp.size - 1)] = True
+    region = np.flatnonzero(mark)
+    sign = comp[region] > 0
+    todo = np.ones(region.size, dtype=bool)
+    for dr, dc in _NEAR:
+        if not todo.any():
+            break
+        j = np.clip(region + dr * W + dc, 0, comp.size - 1)
+        hit = todo & ((comp[j] > 0) != sign)
+        owner[region[hit]] = comp[j[hit]]
+        todo &= ~hit
+    return comp, owner
+
+
+def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None) -> tuple[np.ndarray, np.ndarray]:
     """κ|∇Φ| at the flat indices ``idx`` of the (padded, row length W) array P, in two passes.
 
     First pass: the unit normal n = ∇Φ/|∇Φ| by central differences at the four half-way points around each
     pixel; second pass: its divergence by differences of those. Multiplied by |∇Φ| at the pixel.
+
+    With ``comp`` and ``owner`` (flat, from `_fronts`), each pixel sees only its own front: a neighbour that
+    belongs to another front (two fronts a pixel or two apart, across a gap or a wall) is replaced by the
+    linear continuation of Φ through the pixel from the opposite neighbour, as if the other front were not
+    there. Without it, the crease of Φ between two fronts reads as a strong curvature and draws them
+    together, which the continuous flow never does: fronts merge only where one of them moves.
     """
     flat = P.ravel()
     c = flat[idx]
-    e, w = flat[idx + 1], flat[idx - 1]
-    s, n = flat[idx + W], flat[idx - W]
-    ne, nw = flat[idx - W + 1], flat[idx - W - 1]
-    se, sw = flat[idx + W + 1], flat[idx + W - 1]
+    offs = (1, -1, W, -W, -W + 1, W - 1, -W - 1, W + 1)     # e, w, s, n, ne, sw, nw, se (opposites paired)
+    v = [flat[idx + o] for o in offs]
+    if comp is not None:
+        neg_c = c < 0
+        own_c = owner[idx]
+        foreign = []
+        for o, vo in zip(offs, v):
+            same = (vo < 0) == neg_c
+            j = idx + o
+            foreign.append(np.where(same, owner[j] != own_c, comp[j] != own_c))
+        for a in range(0, 8, 2):
+            b = a + 1
+            fa, fb = foreign[a], foreign[b]
+            va, vb = v[a], v[b]
+            # A foreign neighbour continues Φ linearly from the opposite one; both foreign: no slope.
+            v[a] = np.where(fa, np.where(fb, c, 2 * c - vb), va)
+            v[b] = np.where(fb, np.where(fa, c, 2 * c - va), vb)
+    e, w, s, n, ne, sw, nw, se = v
     # Normal at the east and west half-points (x between columns), and at the south and north ones.
     gx_e = e - c
     gy_e = 0.25 * (s + se - n - ne)
@@ -229,6 +286,41 @@ def _simple_table() -> np.ndarray:
 _SIMPLE = _simple_table()
 
 
+def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np.ndarray:
+    """Move the set ``start`` towards ``target`` by flipping simple pixels only, a layer at a time.
+
+    Only ``movable`` pixels change. A pixel flips when it differs from the target and flipping it changes no
+    component or hole (or removes a one-pixel component or hole, so small parts can vanish as in the flow).
+    Pixels that cannot flip without merging or splitting keep the start's value: the result has the
+    start's topology, up to vanished parts, and equals the target wherever that allows.
+    """
+    cur = np.pad(start, 1, mode="edge")
+    tgt = np.pad(target, 1, mode="edge")
+    mov = np.pad(movable, 1, mode="constant")
+    H, W = cur.shape
+    flat = cur.ravel()
+    offsets = np.array([dr * W + dc for dr, dc in _RING])
+    weights = 1 << np.arange(8)
+    while True:
+        cand = np.flatnonzero(((cur != tgt) & mov).ravel())
+        if cand.size == 0:
+            break
+        parity = (cand // W % 2) * 2 + (cand % W % 2)
+        flipped = 0
+        for sub in range(4):
+            p = cand[parity == sub]
+            if p.size == 0:
+                continue
+            code = ((flat[p[:, None] + offsets[None, :]]) * weights).sum(axis=1)
+            was = flat[p]
+            ok = _SIMPLE[code] | ((code == 255) & ~was) | ((code == 0) & was)
+            flat[p[ok]] = ~was[ok]
+            flipped += int(ok.sum())
+        if not flipped:
+            break
+    return cur[1:-1, 1:-1].copy()
+
+
 def _keep_topology(flat: np.ndarray, idx: np.ndarray, old: np.ndarray, new: np.ndarray, W: int) -> np.ndarray:
     """Apply a step's sign changes only at simple pixels, in four passes of pixels never 8-adjacent.
 
@@ -261,7 +353,7 @@ def _keep_topology(flat: np.ndarray, idx: np.ndarray, old: np.ndarray, new: np.n
 
 
 def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
-          keep_topology: bool = False) -> tuple[np.ndarray, int]:
+          keep_topology: bool = False, own_front: bool = True) -> tuple[np.ndarray, int]:
     """Run the constrained flow on one level; returns Φ and the number of steps taken.
 
     With ``keep_topology`` a pixel changes sign only where that changes no component or hole (a simple
@@ -275,12 +367,19 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
     band = _Band(P, mov)
     steps = 0
     flat = P.ravel()
+    comp = owner = None
+    stale = own_front
+    ring_offsets = np.array([dr * Wp + dc for dr, dc in _RING])
+    ring_weights = 1 << np.arange(8)
     for steps in range(1, iterations + 1):
         if band.idx.size == 0:
             steps -= 1
             break
         idx = band.idx
-        kappa, grad = _speed(P, idx, Wp)
+        if stale:
+            comp, owner = _fronts(P < 0, idx)
+            stale = False
+        kappa, grad = _speed(P, idx, Wp, comp, owner)
         kmax = float(np.abs(kappa).max()) if kappa.size else 0.0
         dt = 0.25 if kmax <= 4.0 else 1.0 / kmax
         old = flat[idx]
@@ -295,8 +394,19 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
         if not flips.any() and moved < stop:
             break
         # Rebuild the band when the front reaches its rim; inside it, the band still holds the front.
-        if flips.any() and band.rim[flips].any():
+        rebuild = flips.any() and band.rim[flips].any()
+        if rebuild:
             band = _Band(P, mov)
+        if own_front and flips.any():
+            # A pixel that crossed a front joins the component across it. Where that changed a component or
+            # a hole (a pixel not simple after the step), and whenever the band moves on, the labels and
+            # owners are found again from scratch.
+            pos = idx[flips]
+            code = ((flat[pos[:, None] + ring_offsets[None, :]] < 0) * ring_weights).sum(axis=1)
+            if rebuild or not _SIMPLE[code].all():
+                stale = True
+            else:
+                comp[pos], owner[pos] = owner[pos], comp[pos].copy()
     return P[1:-1, 1:-1].copy(), steps
 
 
@@ -400,12 +510,18 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
         if phi is None:
             phi_k = base.copy()
         else:
-            phi_k = np.where(mov_k, _upsample(phi, base.shape), base).astype(np.float32)
-            # Reinitialise: in the mortar, Φ becomes the signed distance to the upsampled front again, so
-            # that the narrow gaps the coarse level left between fronts get their true width in Φ.
-            inside = phi_k < 0
+            target = np.where(mov_k, _upsample(phi, base.shape), base) < 0
+            # The coarse level saw this level's initial set and constraints sampled every other pixel, where
+            # parts a pixel apart may touch; reach its result from this level's own initial set by simple
+            # pixels only, so that topology comes from this level (the full-resolution flow, free of the
+            # topology check, merges and splits what truly meets or pinches off).
+            inside = _homotopic(base < 0, target, mov_k)
+            # Reinitialise: in the mortar, Φ becomes the signed distance to that front, so that the narrow
+            # gaps the coarse level left between fronts get their true width in Φ.
             if inside.any() and not inside.all():
                 phi_k = np.where(mov_k, signed_distance(inside), base).astype(np.float32)
+            else:
+                phi_k = np.where(mov_k, np.where(inside, -0.5, 0.5), base).astype(np.float32)
         phi, n = _flow(phi_k, mov_k, iterations, stop, keep_topology=k > 0)
         counts.append(n)
         timings[f"flow level {k}"] = time.perf_counter() - t0

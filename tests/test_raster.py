@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 from shapely.geometry import Point, box
 
 import raster
+from scipy import ndimage
 import vectortighten as vt
 
 YY, XX = np.mgrid[:160, :160]
@@ -235,3 +236,48 @@ def test_png_errors(tmp_path):
         raster.load_mask(tmp_path / "bad.png")
     with pytest.raises(FileNotFoundError):
         raster.save_mask(tmp_path / "no" / "m.png", square())
+
+
+@pytest.mark.parametrize("gap", [1, 2, 5])
+def test_fronts_a_gap_apart_do_not_merge(gap):
+    """Two disks larger than r, `gap` pixels apart: the exact tightening is the two disks (their fronts rest
+    on the core and are convex). The crease of Φ between them must not draw the fronts together, however
+    long the flow runs."""
+    yy, xx = np.mgrid[:120, :220]
+    m = ((yy - 60) ** 2 + (xx - 60) ** 2 < 40 ** 2) | ((yy - 60) ** 2 + (xx - 140 - gap) ** 2 < 40 ** 2)
+    for init in ("core", "input"):
+        T = raster.tighten(m, 20, init=init, levels=1, iterations=2000)
+        assert ndimage.label(T.mask)[1] == 2, init
+        # Nothing of the crease is kept: the result is the two disks, up to the pixels on their rims.
+        assert (T.mask ^ m).sum() <= 0.01 * m.sum(), init
+
+
+def test_coarse_levels_do_not_merge_what_full_resolution_keeps_apart():
+    """A 2-pixel gap vanishes on the coarse grids, where the two squares' samples touch; the result must
+    still be two parts, as at full resolution."""
+    m = np.zeros((120, 200), bool)
+    m[20:100, 20:99] = True
+    m[20:100, 101:180] = True
+    T = raster.tighten(m, 16)
+    assert T.levels > 1
+    assert ndimage.label(T.mask)[1] == 2
+
+
+def test_homotopic_transfer_keeps_the_start_topology():
+    from raster.flow import _homotopic
+
+    start = np.zeros((40, 60), bool)
+    start[10:30, 5:28] = True
+    start[10:30, 32:55] = True
+    target = np.zeros_like(start)
+    target[8:32, 3:57] = True                 # one block: the gap between the squares closed
+    movable = np.ones_like(start)
+    out = _homotopic(start, target, movable)
+    assert ndimage.label(out)[1] == 2
+    # Everything else reaches the target: only a line a pixel wide, where the parts would meet, differs.
+    diff = out ^ target
+    assert diff.sum() <= 24 and not diff[:, :27].any() and not diff[:, 33:].any()
+    # A small part with nowhere to go vanishes, as a one-pixel component may.
+    lone = np.zeros((20, 20), bool)
+    lone[8:11, 8:11] = True
+    assert not _homotopic(lone, np.zeros_like(lone), np.ones_like(lone)).any()

@@ -484,8 +484,9 @@ def _add_compare(sub) -> None:
     cmp_.add_argument("--levels", type=_positive_int, default=None, metavar="L",
                       help="resolution levels of the pixel flow (default: the paper's multiscale; 1 = full "
                            "resolution only, slower but more accurate)")
-    cmp_.add_argument("--iterations", type=_positive_int, default=100, metavar="N",
-                      help="steps of the pixel flow per level (default: the paper's 100)")
+    cmp_.add_argument("--iterations", type=_positive_int, default=1000, metavar="N",
+                      help="most steps of the pixel flow per level; it stops once converged "
+                           "(default 1000; the paper's budget is 100)")
     cmp_.add_argument("--plot", type=Path, default=None, metavar="OUT.png",
                       help="also draw the input with its mortar, both results and their difference")
 
