@@ -157,15 +157,16 @@ _NEAR = sorted(((dr, dc) for dr in range(-4, 5) for dc in range(-4, 5) if (dr, d
                key=lambda o: (o[0] ** 2 + o[1] ** 2, o))
 
 
-def _fronts(neg: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _fronts(neg: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Which front each pixel near the band belongs to: the sign component it lies in, and the one across.
 
     ``neg`` is the (padded) inside set, ``idx`` the band's flat indices. Returns flat arrays ``comp``
     (inside components numbered 1, 2, …, outside ones −1, −2, …, both with 8-adjacency: parts touching
     at a corner count as one, so the rule is the same for a set and its complement and the flow stays
     self-dual) and ``owner``: at the band pixels and their neighbours, the component of the nearest pixel
-    of the other sign within four pixels (0 if none). A pixel's front is the boundary between its own
-    component and its owner.
+    of the other sign within four pixels (0 if none), and ``second``, another such component beside it
+    (a 4-neighbour; 0 if none). A pixel's front is the boundary between its own component and its
+    owner; a pixel in a crack one pixel wide between two components lies on both fronts.
     """
     eight = np.ones((3, 3), bool)
     comp_in, _ = ndimage.label(neg, structure=eight)
@@ -177,25 +178,31 @@ def _fronts(neg: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     for o in (-W - 1, -W, -W + 1, -1, 0, 1, W - 1, W, W + 1):
         mark[np.clip(idx + o, 0, comp.size - 1)] = True
     region = np.flatnonzero(mark)
+    second = np.zeros_like(comp)
     sign = comp[region] > 0
-    todo = np.ones(region.size, dtype=bool)
+    first = np.zeros(region.size, dtype=np.int32)
+    other = np.zeros(region.size, dtype=np.int32)
     for dr, dc in _NEAR:
-        if not todo.any():
-            break
         j = np.clip(region + dr * W + dc, 0, comp.size - 1)
-        hit = todo & ((comp[j] > 0) != sign)
-        owner[region[hit]] = comp[j[hit]]
-        todo &= ~hit
-    return comp, owner
+        across = (comp[j] > 0) != sign
+        hit = across & (first == 0)
+        first[hit] = comp[j[hit]]
+        hit2 = across & (first != 0) & (other == 0) & (comp[j] != first) & (dr * dr + dc * dc == 1)
+        other[hit2] = comp[j[hit2]]
+    owner[region] = first
+    second[region] = other
+    return comp, owner, second
 
 
-def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None) -> tuple[np.ndarray, np.ndarray]:
+def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None, second=None,
+           own=None) -> tuple[np.ndarray, np.ndarray]:
     """κ|∇Φ| at the flat indices ``idx`` of the (padded, row length W) array P, in two passes.
 
     First pass: the unit normal n = ∇Φ/|∇Φ| by central differences at the four half-way points around each
     pixel; second pass: its divergence by differences of those. Multiplied by |∇Φ| at the pixel.
 
-    With ``comp`` and ``owner`` (flat, from `_fronts`), each pixel sees only its own front: a neighbour that
+    With ``comp``, ``owner`` and ``second`` (flat, from `_fronts`), each pixel sees only one front, its
+    owner's (or ``own``'s, per pixel): a neighbour that
     belongs to another front (two fronts a pixel or two apart, across a gap or a wall) is replaced by the
     linear continuation of Φ through the pixel from the opposite neighbour, as if the other front were not
     there. Without it, the crease of Φ between two fronts reads as a strong curvature and draws them
@@ -207,12 +214,12 @@ def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None) -> tup
     v = [flat[idx + o] for o in offs]
     if comp is not None:
         neg_c = c < 0
-        own_c = owner[idx]
+        own_c = owner[idx] if own is None else own
         foreign = []
         for o, vo in zip(offs, v):
             same = (vo < 0) == neg_c
             j = idx + o
-            foreign.append(np.where(same, owner[j] != own_c, comp[j] != own_c))
+            foreign.append(np.where(same, (owner[j] != own_c) & (second[j] != own_c), comp[j] != own_c))
         for a in range(0, 8, 2):
             b = a + 1
             fa, fb = foreign[a], foreign[b]
@@ -233,6 +240,11 @@ def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None) -> tup
     div = (gx_e / np.sqrt(gx_e * gx_e + gy_e * gy_e + _EPS) - gx_w / np.sqrt(gx_w * gx_w + gy_w * gy_w + _EPS)
            + gy_s / np.sqrt(gy_s * gy_s + gx_s * gx_s + _EPS) - gy_n / np.sqrt(gy_n * gy_n + gx_n * gx_n + _EPS))
     grad = np.sqrt(0.25 * ((e - w) ** 2 + (s - n) ** 2))
+    # A structure one pixel thick (both neighbours along a row or a column across the front) has
+    # central differences that cancel: |∇Φ| = 0 however curved it is, and it would never move. There Φ
+    # changes by about one pixel a pixel, as everywhere near the front.
+    thin = (((e < 0) == (w < 0)) & ((e < 0) != (c < 0))) | (((s < 0) == (n < 0)) & ((s < 0) != (c < 0)))
+    grad = np.where(thin, np.maximum(grad, 1.0), grad)
     return div, grad
 
 
@@ -367,7 +379,7 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
     band = _Band(P, mov)
     steps = 0
     flat = P.ravel()
-    comp = owner = None
+    comp = owner = second = None
     stale = own_front
     ring_offsets = np.array([dr * Wp + dc for dr, dc in _RING])
     ring_weights = 1 << np.arange(8)
@@ -377,13 +389,24 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
             break
         idx = band.idx
         if stale:
-            comp, owner = _fronts(P < 0, idx)
+            comp, owner, second = _fronts(P < 0, idx)
             stale = False
-        kappa, grad = _speed(P, idx, Wp, comp, owner)
+        kappa, grad = _speed(P, idx, Wp, comp, owner, second)
+        speed = kappa * grad
+        if own_front:
+            # A pixel between two fronts follows whichever moves it across: the sign changes if either
+            # front advances through it (outside: the lower Φ, inside: the higher).
+            both = np.flatnonzero(second[idx] != 0)
+            if both.size:
+                k2, g2 = _speed(P, idx[both], Wp, comp, owner, second, own=second[idx[both]])
+                s2 = k2 * g2
+                outside = flat[idx[both]] >= 0
+                speed[both] = np.where(outside, np.minimum(speed[both], s2), np.maximum(speed[both], s2))
+                kappa[both] = np.where(np.abs(k2) > np.abs(kappa[both]), k2, kappa[both])
         kmax = float(np.abs(kappa).max()) if kappa.size else 0.0
         dt = 0.25 if kmax <= 4.0 else 1.0 / kmax
         old = flat[idx]
-        new = old + (dt * kappa * grad).astype(np.float32)
+        new = old + (dt * speed).astype(np.float32)
         flat[idx] = new
         if keep_topology:
             new = _keep_topology(flat, idx, old, new, Wp)
@@ -406,7 +429,7 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
             if rebuild or not _SIMPLE[code].all():
                 stale = True
             else:
-                comp[pos], owner[pos] = owner[pos], comp[pos].copy()
+                comp[pos], owner[pos], second[pos] = owner[pos], comp[pos].copy(), 0
     return P[1:-1, 1:-1].copy(), steps
 
 
