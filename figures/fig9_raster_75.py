@@ -6,10 +6,11 @@ paper's method), over the mortar. (c) The paper's pixel method (constrained leve
 `raster` package) on the rasterised input, and (d) where the two differ.
 
 Both start from the core. The vector engine tightens each core loop in its homotopy class and merges
-loops only where the tight loops touch; the pixel flow, run multiscale as in the paper, can merge core
-components that lie a few coarse pixels apart at its coarser levels, and a merged set then stays merged
-(its neck is held by the anticore). Both results are r-smooth and lie between core and fillet, but their
-topology can differ; panel (d) reports it.
+loops only where the tight loops touch; the pixel flow runs multiscale as in the paper, each front seeing
+only itself and each finer level keeping its own topology, to convergence (at most 1000 steps a level).
+Panel (d) reports both topologies (the same here) and where the boundaries differ: mostly the two long
+tight segments beside the lake, which the curvature flow approaches slowly (a front nearly straight moves
+only as fast as its small curvature).
 """
 
 from __future__ import annotations
