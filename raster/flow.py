@@ -157,16 +157,15 @@ _NEAR = sorted(((dr, dc) for dr in range(-4, 5) for dc in range(-4, 5) if (dr, d
                key=lambda o: (o[0] ** 2 + o[1] ** 2, o))
 
 
-def _fronts(neg: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _fronts(neg: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Which front each pixel near the band belongs to: the sign component it lies in, and the one across.
 
     ``neg`` is the (padded) inside set, ``idx`` the band's flat indices. Returns flat arrays ``comp``
     (inside components numbered 1, 2, …, outside ones −1, −2, …, both with 8-adjacency: parts touching
     at a corner count as one, so the rule is the same for a set and its complement and the flow stays
     self-dual) and ``owner``: at the band pixels and their neighbours, the component of the nearest pixel
-    of the other sign within four pixels (0 if none), and ``second``, another such component beside it
-    (a 4-neighbour; 0 if none). A pixel's front is the boundary between its own component and its
-    owner; a pixel in a crack one pixel wide between two components lies on both fronts.
+    of the other sign within four pixels (0 if none). A pixel's front is the boundary between its own
+    component and its owner.
     """
     eight = np.ones((3, 3), bool)
     comp_in, _ = ndimage.label(neg, structure=eight)
@@ -178,31 +177,25 @@ def _fronts(neg: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
     for o in (-W - 1, -W, -W + 1, -1, 0, 1, W - 1, W, W + 1):
         mark[np.clip(idx + o, 0, comp.size - 1)] = True
     region = np.flatnonzero(mark)
-    second = np.zeros_like(comp)
     sign = comp[region] > 0
-    first = np.zeros(region.size, dtype=np.int32)
-    other = np.zeros(region.size, dtype=np.int32)
+    todo = np.ones(region.size, dtype=bool)
     for dr, dc in _NEAR:
+        if not todo.any():
+            break
         j = np.clip(region + dr * W + dc, 0, comp.size - 1)
-        across = (comp[j] > 0) != sign
-        hit = across & (first == 0)
-        first[hit] = comp[j[hit]]
-        hit2 = across & (first != 0) & (other == 0) & (comp[j] != first) & (dr * dr + dc * dc == 1)
-        other[hit2] = comp[j[hit2]]
-    owner[region] = first
-    second[region] = other
-    return comp, owner, second
+        hit = todo & ((comp[j] > 0) != sign)
+        owner[region[hit]] = comp[j[hit]]
+        todo &= ~hit
+    return comp, owner
 
 
-def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None, second=None,
-           own=None) -> tuple[np.ndarray, np.ndarray]:
+def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None) -> tuple[np.ndarray, np.ndarray]:
     """κ|∇Φ| at the flat indices ``idx`` of the (padded, row length W) array P, in two passes.
 
     First pass: the unit normal n = ∇Φ/|∇Φ| by central differences at the four half-way points around each
     pixel; second pass: its divergence by differences of those. Multiplied by |∇Φ| at the pixel.
 
-    With ``comp``, ``owner`` and ``second`` (flat, from `_fronts`), each pixel sees only one front, its
-    owner's (or ``own``'s, per pixel): a neighbour that
+    With ``comp`` and ``owner`` (flat, from `_fronts`), each pixel sees only its own front: a neighbour that
     belongs to another front (two fronts a pixel or two apart, across a gap or a wall) is replaced by the
     linear continuation of Φ through the pixel from the opposite neighbour, as if the other front were not
     there. Without it, the crease of Φ between two fronts reads as a strong curvature and draws them
@@ -214,12 +207,12 @@ def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None, second
     v = [flat[idx + o] for o in offs]
     if comp is not None:
         neg_c = c < 0
-        own_c = owner[idx] if own is None else own
+        own_c = owner[idx]
         foreign = []
         for o, vo in zip(offs, v):
             same = (vo < 0) == neg_c
             j = idx + o
-            foreign.append(np.where(same, (owner[j] != own_c) & (second[j] != own_c), comp[j] != own_c))
+            foreign.append(np.where(same, owner[j] != own_c, comp[j] != own_c))
         for a in range(0, 8, 2):
             b = a + 1
             fa, fb = foreign[a], foreign[b]
@@ -303,8 +296,9 @@ def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np
 
     Only ``movable`` pixels change. A pixel flips when it differs from the target and flipping it changes no
     component or hole (or removes a one-pixel component or hole, so small parts can vanish as in the flow).
-    Pixels that cannot flip without merging or splitting keep the start's value: the result has the
-    start's topology, up to vanished parts, and equals the target wherever that allows.
+    Pixels that cannot flip without merging or splitting keep the start's value, and so does every pixel
+    of the connected region of change around them: the result has the start's topology, up to vanished
+    parts, and equals the target elsewhere.
     """
     cur = np.pad(start, 1, mode="edge")
     tgt = np.pad(target, 1, mode="edge")
@@ -330,6 +324,15 @@ def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np
             flipped += int(ok.sum())
         if not flipped:
             break
+    # Where a pixel was refused, the parts on either side of it were pressed together by the coarse grid;
+    # the whole connected change around it is undone, so that the flow starts there from this level's
+    # initial set and re-grows (or re-shrinks) what truly belongs (changes that are not 8-adjacent never
+    # see each other's pixels, so undoing one keeps every other flip simple).
+    stuck = (cur != tgt) & mov
+    if stuck.any():
+        change, _ = ndimage.label((np.pad(start, 1, mode="edge") != tgt) & mov, structure=np.ones((3, 3), bool))
+        undo = np.isin(change, np.unique(change[stuck]))
+        cur[undo] = np.pad(start, 1, mode="edge")[undo]
     return cur[1:-1, 1:-1].copy()
 
 
@@ -379,7 +382,7 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
     band = _Band(P, mov)
     steps = 0
     flat = P.ravel()
-    comp = owner = second = None
+    comp = owner = None
     stale = own_front
     ring_offsets = np.array([dr * Wp + dc for dr, dc in _RING])
     ring_weights = 1 << np.arange(8)
@@ -389,24 +392,13 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
             break
         idx = band.idx
         if stale:
-            comp, owner, second = _fronts(P < 0, idx)
+            comp, owner = _fronts(P < 0, idx)
             stale = False
-        kappa, grad = _speed(P, idx, Wp, comp, owner, second)
-        speed = kappa * grad
-        if own_front:
-            # A pixel between two fronts follows whichever moves it across: the sign changes if either
-            # front advances through it (outside: the lower Φ, inside: the higher).
-            both = np.flatnonzero(second[idx] != 0)
-            if both.size:
-                k2, g2 = _speed(P, idx[both], Wp, comp, owner, second, own=second[idx[both]])
-                s2 = k2 * g2
-                outside = flat[idx[both]] >= 0
-                speed[both] = np.where(outside, np.minimum(speed[both], s2), np.maximum(speed[both], s2))
-                kappa[both] = np.where(np.abs(k2) > np.abs(kappa[both]), k2, kappa[both])
+        kappa, grad = _speed(P, idx, Wp, comp, owner)
         kmax = float(np.abs(kappa).max()) if kappa.size else 0.0
         dt = 0.25 if kmax <= 4.0 else 1.0 / kmax
         old = flat[idx]
-        new = old + (dt * speed).astype(np.float32)
+        new = old + (dt * kappa * grad).astype(np.float32)
         flat[idx] = new
         if keep_topology:
             new = _keep_topology(flat, idx, old, new, Wp)
@@ -429,7 +421,7 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
             if rebuild or not _SIMPLE[code].all():
                 stale = True
             else:
-                comp[pos], owner[pos], second[pos] = owner[pos], comp[pos].copy(), 0
+                comp[pos], owner[pos] = owner[pos], comp[pos].copy()
     return P[1:-1, 1:-1].copy(), steps
 
 
