@@ -122,7 +122,7 @@ def main(argv=None) -> int:
         + (f" --levels {args.levels}" if args.levels else "")
         + (f" --iterations {args.iterations}" if args.iterations != 1000 else "")
         + (f" --pixels-per-r {args.pixels_per_r:g}" if args.pixels_per_r != 20 else "")
-        + (f" --out {args.out.relative_to(HERE.parent)}" if args.out != HERE / "results" / "crosscheck.md" else "")
+        + (f" --out {args.out}" if args.out.resolve() != HERE / "results" / "crosscheck.md" else "")
         + "`.",
         "",
         "| shape | r | init | Hausdorff (px) | symmetric difference / mortar | vector (comp, holes) "
