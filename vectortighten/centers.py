@@ -266,7 +266,12 @@ _COMBOS = {m: np.array(list(itertools.combinations(range(m), 2)), dtype=np.int64
 
 def _hypot_rows(v: np.ndarray) -> np.ndarray:
     """``math.hypot`` of each row (as the one-point solvers compute it, to the last bit)."""
-    return np.array([math.hypot(x, y) for x, y in v.tolist()], dtype=float).reshape(len(v))
+    if len(v) == 0:
+        return np.zeros(0)
+    return _HYPOT(v[:, 0], v[:, 1]).astype(float)
+
+
+_HYPOT = np.frompyfunc(math.hypot, 2, 1)
 
 
 def _solve_pairs(p, fa, fb, a, b, r, side):
