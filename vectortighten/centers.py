@@ -259,6 +259,150 @@ def _solve_many(p, fa, fb, a, b, r, side):
     return out
 
 
+# Pairs of candidates among m features, in `itertools.combinations` order.
+_COMBOS = {m: np.array(list(itertools.combinations(range(m), 2)), dtype=np.int64).reshape(-1, 2)
+           for m in range(2, 7)}
+
+
+def _hypot_rows(v: np.ndarray) -> np.ndarray:
+    """``math.hypot`` of each row (as the one-point solvers compute it, to the last bit)."""
+    if len(v) == 0:
+        return np.zeros(0)
+    return _HYPOT(v[:, 0], v[:, 1]).astype(float)
+
+
+_HYPOT = np.frompyfunc(math.hypot, 2, 1)
+
+
+def _solve_pairs(p, fa, fb, a, b, r, side):
+    """`_solve_pair` for many (point, feature, feature) rows at once, with the same arithmetic.
+
+    Returns ``(row, k, xy)``: solution ``k`` (0 or 1, in `_solve_pair`'s order) of row ``row``.
+    """
+    kinds_a, kinds_b = fa % 2, fb % 2
+    swap = (kinds_a == 1) & (kinds_b == 0)
+    ia = np.where(swap, fb // 2, fa // 2)
+    ib = np.where(swap, fa // 2, fb // 2)
+    rows, ks, sols = [], [], []
+
+    def offset(i):
+        d = b[i] - a[i]
+        L = _hypot_rows(d)[:, None]
+        n = np.column_stack([-d[:, 1], d[:, 0]]) / L
+        return a[i] + side * r * n, n, d / L
+
+    ll = np.flatnonzero((kinds_a == 0) & (kinds_b == 0))
+    if len(ll):
+        o1, n1, _ = offset(ia[ll])
+        o2, n2, _ = offset(ib[ll])
+        M = np.stack([n1, n2], axis=1)
+        rhs = np.column_stack([np.vecdot(n1, o1), np.vecdot(n2, o2)])
+        det = np.linalg.det(M)
+        flat = np.abs(det) < 1e-12
+        sol = np.empty((len(ll), 2))
+        if flat.any():
+            # Parallel offset lines: the solutions form a line; keep the projection of p onto it.
+            pf, of, nf = p[ll[flat]], o1[flat], n1[flat]
+            sol[flat] = pf - np.vecdot(pf - of, nf)[:, None] * nf
+        if (~flat).any():
+            sol[~flat] = np.linalg.solve(M[~flat], rhs[~flat][:, :, None])[:, :, 0]
+        rows.append(ll)
+        ks.append(np.zeros(len(ll), dtype=np.int64))
+        sols.append(sol)
+    pp = np.flatnonzero((kinds_a == 1) & (kinds_b == 1))
+    if len(pp):
+        q1, q2 = a[ia[pp]], a[ib[pp]]
+        m = 0.5 * (q1 + q2)
+        h = 0.5 * _hypot_rows(q2 - q1)
+        ok = ~((h == 0) | (h > r * (1 + 1e-12)))
+        pp, q1, q2, m, h = pp[ok], q1[ok], q2[ok], m[ok], h[ok]
+        off = np.sqrt(np.maximum(r * r - h * h, 0.0))[:, None]
+        d = (q2 - q1) / (2 * h)[:, None]
+        n = np.column_stack([-d[:, 1], d[:, 0]])
+        rows += [pp, pp]
+        ks += [np.zeros(len(pp), dtype=np.int64), np.ones(len(pp), dtype=np.int64)]
+        sols += [m + off * n, m - off * n]
+    lp = np.flatnonzero(kinds_a != kinds_b)
+    if len(lp):
+        o, _, u = offset(ia[lp])
+        wv = o - a[ib[lp]]
+        beta = np.vecdot(u, wv)
+        disc = beta * beta - (np.vecdot(wv, wv) - r * r)
+        ok = ~(disc < -1e-9 * r * r)
+        lp, o, u, beta, disc = lp[ok], o[ok], u[ok], beta[ok], disc[ok]
+        root = np.sqrt(np.maximum(disc, 0.0))
+        rows += [lp, lp]
+        ks += [np.zeros(len(lp), dtype=np.int64), np.ones(len(lp), dtype=np.int64)]
+        sols += [o + (-beta - root)[:, None] * u, o + (-beta + root)[:, None] * u]
+    if not rows:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros((0, 2))
+    return np.concatenate(rows), np.concatenate(ks), np.concatenate(sols)
+
+
+def _refine_all_pairs(points, pairs, starts, counts, exact, xy, feats, a, b, r, side, w, tiny):
+    """For each point not yet solved with two or more features in the band: the solution over all pairs
+    of its features (the six nearest to r when there are more) nearest to the point, that lies within the
+    window and at distance r from both features. Updates ``xy``, ``feats`` and ``exact`` in place.
+
+    Same as trying every pair of every point one at a time, first solution kept among equally near ones.
+    """
+    owner = pairs[starts, 0]
+    grp = np.flatnonzero((counts >= 2) & ~exact[owner])
+    if len(grp) == 0:
+        return
+    # The candidate features of each group: all, or the six nearest to r.
+    cands: dict[int, list] = {}
+    many = grp[counts[grp] > 6]
+    if len(many):
+        lens = counts[many]
+        rows = np.repeat(starts[many], lens) + (np.arange(lens.sum()) - np.repeat(np.cumsum(lens) - lens, lens))
+        keys = pairs[rows, 1]
+        dd_all = _distance_to_feature(points[pairs[rows, 0]], a[keys // 2], b[keys // 2], keys % 2)
+        off = 0
+        for g, c in zip(many.tolist(), lens.tolist()):
+            dd = dd_all[off:off + c]
+            cand = pairs[starts[g]:starts[g] + c, 1][np.argsort(np.abs(dd - r))[:6]]
+            cands.setdefault(6, []).append((g, cand))
+            off += c
+    few = grp[counts[grp] <= 6]
+    for c in np.unique(counts[few]).tolist():
+        g = few[counts[few] == c]
+        block = pairs[starts[g][:, None] + np.arange(c)[None, :], 1]
+        cands.setdefault(c, []).extend(zip(g.tolist(), block))
+    G, FA, FB, ORD = [], [], [], []
+    for m, items in cands.items():
+        gs = np.array([g for g, _ in items], dtype=np.int64)
+        C = np.stack([cand for _, cand in items])
+        I, J = _COMBOS[m][:, 0], _COMBOS[m][:, 1]
+        G.append(np.repeat(gs, len(I)))
+        FA.append(C[:, I].ravel())
+        FB.append(C[:, J].ravel())
+        ORD.append(np.tile(np.arange(len(I)), len(gs)))
+    G, FA, FB, ORD = map(np.concatenate, (G, FA, FB, ORD))
+    ok = ~((FA // 2 == FB // 2) & (FA % 2 != FB % 2))
+    G, FA, FB, ORD = G[ok], FA[ok], FB[ok], ORD[ok]
+    P = points[owner[G]]
+    row, k, sol = _solve_pairs(P, FA, FB, a, b, r, side)
+    dev = _hypot_rows(sol - P[row])
+    good = dev <= w + tiny
+    row, k, sol, dev = row[good], k[good], sol[good], dev[good]
+    for F in (FA, FB):
+        f = F[row]
+        dd = _distance_to_feature(sol, a[f // 2], b[f // 2], f % 2)
+        keep = np.abs(dd - r) <= 10 * tiny
+        row, k, sol, dev = row[keep], k[keep], sol[keep], dev[keep]
+    if len(row) == 0:
+        return
+    # Nearest solution of each group; among equally near ones the first tried (pair order, then solution).
+    order = np.lexsort((k, ORD[row], dev, G[row]))
+    gs = G[row][order]
+    first = order[np.r_[True, gs[1:] != gs[:-1]]]
+    kk = owner[G[row[first]]]
+    xy[kk] = sol[first]
+    feats[kk] = np.column_stack([FA[row[first]], FB[row[first]]])
+    exact[kk] = True
+
+
 def _refine(points, side, a, b, nxt, tree, r, window, scale):
     """Exact centres near the approximate ``points`` (one side); returns xy, features, exact flags.
 
@@ -296,7 +440,10 @@ def _refine(points, side, a, b, nxt, tree, r, window, scale):
         at1 = t > 1 - slack
         keys = np.concatenate([2 * ei[line], 2 * ei[at0] + 1, 2 * nxt[ei[at1]] + 1])
         owners = np.concatenate([pi[line], pi[at0], pi[at1]])
-        pairs = np.unique(np.column_stack([owners, keys]), axis=0)
+        # Distinct (owner, key) pairs in lexicographic order, through one integer key (fast to sort).
+        base = 2 * len(a) + 2
+        code = np.unique(owners.astype(np.int64) * base + keys)
+        pairs = np.column_stack([code // base, code % base])
         if len(pairs) == 0:
             continue
         starts = np.flatnonzero(np.r_[True, pairs[1:, 0] != pairs[:-1, 0]])
@@ -316,36 +463,8 @@ def _refine(points, side, a, b, nxt, tree, r, window, scale):
         xy[k[good]] = sol[good]
         feats[k[good]] = fk[good]
         exact[k[good]] = True
-        # Three or more features (or a failed pair): every pair, one point at a time.
-        for s0, c in zip(starts.tolist(), counts.tolist()):
-            kk = pairs[s0, 0]
-            if exact[kk] or c < 2:
-                continue
-            best = None
-            cand = pairs[s0:s0 + c, 1]
-            if c > 6:
-                # Many features at distance ~r (an arc of radius r shrunk to its centre): the six nearest
-                # to r decide.
-                dd = _distance_to_feature(np.repeat(points[kk][None, :], c, axis=0), a[cand // 2],
-                                          b[cand // 2], cand % 2)
-                cand = cand[np.argsort(np.abs(dd - r))[:6]]
-            for fa1, fb1 in itertools.combinations(cand, 2):
-                if fa1 // 2 == fb1 // 2 and fa1 % 2 != fb1 % 2:
-                    continue
-                for x in _solve_pair(points[kk], fa1, fb1, a, b, r, side):
-                    dev = math.hypot(*(x - points[kk]))
-                    if dev > w + tiny:
-                        continue
-                    f2 = np.array([fa1, fb1])
-                    dd = _distance_to_feature(np.array([x, x]), a[f2 // 2], b[f2 // 2], f2 % 2)
-                    if np.abs(dd - r).max() > 10 * tiny:
-                        continue
-                    if best is None or dev < best[0]:
-                        best = (dev, x, fa1, fb1)
-            if best is not None:
-                xy[kk] = best[1]
-                feats[kk] = best[2], best[3]
-                exact[kk] = True
+        # Three or more features (or a failed pair): every pair, nearest solution (all points at once).
+        _refine_all_pairs(points, pairs, starts, counts, exact, xy, feats, a, b, r, side, w, tiny)
     # A centre must keep distance r from every feature, not just its two.
     if exact.any():
         idx = np.flatnonzero(exact)

@@ -134,6 +134,7 @@ class _Context:
         self._R = None
         self._F = None
         self._domain = None
+        self.violation_cache: dict = {}       # `_violations` outcomes by piece, for the exact finish
 
     # -- morphology, lazily ------------------------------------------------------------------------------
     @property
@@ -328,26 +329,49 @@ def _drop_indices(values: np.ndarray) -> np.ndarray:
     return np.flatnonzero(pick)
 
 
-def _violations(ctx: _Context, L: _DiskLoop):
+def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
     """Places where the loop enters the core or the anticore: list of (piece, candidate centre, side, where).
 
     Two tests: a piece closer than r to another disk centre (exact: the centres are exact), and a piece
     closer than r to an edge of the shrink or the grow (the flat parts of the core and fillet, known only
     to the accuracy of the buffers, hence a looser threshold). ``where`` is 0 to insert the candidate after
     disk ``piece // 2`` for a tangent piece; for an arc −1 to insert it before the arc's disk, +1 after.
+
+    ``cache`` (a dict kept by the caller for one context) remembers the outcome for each piece by
+    everything that determines it — a tangent's end points and lengths and its two disks, an arc's centre,
+    start, sweep, disk and side — so that a loop that changed only in a few places is tested only there.
     """
     r = ctx.r
     thr_c = r - ctx.pen_center
     thr_e = r - ctx.pen
     n = L.n
     P, Q = L.tangent_points()
+    a0 = L.arc_start()
     bad: dict[int, tuple[np.ndarray, set]] = {}
+    seg_ids = np.flatnonzero(L.length > 1e-14)
+    arcs = np.flatnonzero(L.sweep != 0)
+    keys: dict[int, tuple] = {}
+    known: dict[int, tuple | None] = {}
+    if cache is not None:
+        cid, nxt = L.cid.tolist(), np.roll(L.cid, -1).tolist()
+        PQ = np.column_stack([P, Q, L.length]).tolist()
+        for i in seg_ids.tolist():
+            keys[2 * i + 1] = ("seg", *PQ[i], cid[i], nxt[i])
+        ARC = np.column_stack([L.c, a0, L.sweep]).tolist()
+        sd = L.side.tolist()
+        for i in arcs.tolist():
+            keys[2 * i] = ("arc", *ARC[i], cid[i], sd[i])
+        for piece, key in keys.items():
+            if key in cache:
+                known[piece] = cache[key]
+        if known:
+            seg_ids = np.array([i for i in seg_ids.tolist() if 2 * i + 1 not in known], dtype=np.int64)
+            arcs = np.array([i for i in arcs.tolist() if 2 * i not in known], dtype=np.int64)
 
     def flag(piece, point, edges=()):
         entry = bad.setdefault(piece, (point, set()))
         entry[1].update(edges)
 
-    seg_ids = np.flatnonzero(L.length > 1e-14)
     if len(seg_ids):
         segs = shapely.linestrings(np.stack([P[seg_ids], Q[seg_ids]], axis=1))
         mid = 0.5 * (P[seg_ids] + Q[seg_ids])
@@ -366,8 +390,6 @@ def _violations(ctx: _Context, L: _DiskLoop):
         for i in np.flatnonzero(inside_e | outside_g):
             flag(2 * int(seg_ids[i]) + 1, mid[i])
     # Arcs: points along each, tested against the other centres and the obstacle edges.
-    a0 = L.arc_start()
-    arcs = np.flatnonzero(L.sweep != 0)
     if len(arcs):
         m = np.maximum(2, np.ceil(np.abs(L.sweep[arcs]) / (math.pi / 32)).astype(np.int64))
         owner = np.repeat(arcs, m - 1)
@@ -386,8 +408,9 @@ def _violations(ctx: _Context, L: _DiskLoop):
             keep = _real_entries(ctx, geoms[pi], ei)
             for k, e in zip(pi[keep].tolist(), ei[keep].tolist()):
                 flag(2 * int(owner[k]), pts[k], (e,))
-    out = []
+    found: dict[int, tuple | None] = {}
     for piece in sorted(bad):
+        found[piece] = None
         where, edges = bad[piece]
         disk = piece // 2
         kind = "arc" if piece % 2 == 0 else "seg"
@@ -400,7 +423,7 @@ def _violations(ctx: _Context, L: _DiskLoop):
         if kind == "seg":
             d = Q[disk] - P[disk]
             side = 1 if (d[0] * (cxy[1] - P[disk][1]) - d[1] * (cxy[0] - P[disk][0])) > 0 else -1
-            out.append((piece, ci, side, 0))
+            found[piece] = (ci, side, 0)
         else:
             c = L.c[disk]
             s = L.side[disk]
@@ -410,8 +433,14 @@ def _violations(ctx: _Context, L: _DiskLoop):
             th = math.atan2(v[1], v[0])
             frac = ((th - a0[disk]) % _TWO_PI) / abs(L.sweep[disk]) if s > 0 else \
                 ((a0[disk] - th) % _TWO_PI) / abs(L.sweep[disk])
-            out.append((piece, ci, side, -1 if frac < 0.5 else 1))
-    return out
+            found[piece] = (ci, side, -1 if frac < 0.5 else 1)
+    if cache is not None:
+        for i in seg_ids.tolist():
+            cache[keys[2 * i + 1]] = found.get(2 * i + 1)
+        for i in arcs.tolist():
+            cache[keys[2 * i]] = found.get(2 * i)
+    found.update(known)
+    return [(piece, *found[piece]) for piece in sorted(found) if found[piece] is not None]
 
 
 def _real_entries(ctx: _Context, pieces, edges) -> np.ndarray:
@@ -525,7 +554,7 @@ def _finish(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray) -
             loop.converged = False
             return loop
         seen.add(state)
-        viol = _violations(ctx, loop)
+        viol = _violations(ctx, loop, ctx.violation_cache)
         if not viol:
             return loop
         # Insert the candidates, from the back so that earlier indices stay valid. A disk that pokes out
@@ -638,12 +667,12 @@ def _contacts(ctx: _Context, loops: list[_DiskLoop]):
     ia, ib = tree.query(lines, predicate="dwithin", distance=sag)
     keep = ia < ib
     ia, ib = ia[keep], ib[keep]
-    # Pieces of one loop that lie within 0.9·π·r of each other along it cannot touch in the surgery sense.
+    # Pieces of one loop that lie within 0.9·π·r of each other along it cannot touch in the surgery sense:
+    # the separation along the loop of any two of their points, measured either way round, is at most the
+    # span from the first one's start to the last one's end (the exact test below is then always false).
     same = owner[ia] == owner[ib]
-    total = totals[owner[ia]]
     far = np.maximum(stop[ia], stop[ib]) - np.minimum(start[ia], start[ib])          # widest separation
-    far = np.maximum(far, total - np.maximum(start[ia], start[ib]) + np.minimum(stop[ia], stop[ib]))
-    keep = ~same | (np.minimum(far, total) >= 0.9 * math.pi * r)
+    keep = ~same | (far >= 0.9 * math.pi * r)
     out = []
     used = set()
     pieces_cache = {}

@@ -87,8 +87,73 @@ def _triangles(domain, use_earcut: bool = True) -> np.ndarray:
         verts = np.concatenate(rings)
         ends = np.cumsum([len(x) for x in rings]).astype(np.uint32)
         idx = np.asarray(mapbox_earcut.triangulate_float64(verts, ends)).reshape(-1, 3)
-        out.append(verts[idx])
+        out.append(verts[_restore_collinear(idx, verts, ends)])
     return np.concatenate(out) if out else np.zeros((0, 3, 2))
+
+
+def _restore_collinear(idx: np.ndarray, verts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """Earcut's triangles with the ring vertices it skipped put back.
+
+    Earcut drops a vertex exactly collinear with its neighbours; the triangle then has an edge (u, w) along
+    the ring that passes over the skipped vertices, a T-junction for the funnel. Each such triangle is
+    split into a fan from its third vertex over u, the skipped vertices, w. Only runs of skipped vertices
+    that lie exactly on the segment u→w, in order, are restored; anything else is left as it is (and
+    `triangulate` then falls back to GEOS, as for any triangulation that does not conform).
+    """
+    used = np.zeros(len(verts), dtype=bool)
+    used[idx.reshape(-1)] = True
+    if used.all() or len(idx) == 0:
+        return idx
+    # Directed triangle edges (a, b) -> (triangle, opposite vertex), in both directions.
+    a, b, c = idx[:, 0], idx[:, 1], idx[:, 2]
+    n = len(verts)
+    eu = np.concatenate([a, b, c, b, c, a]).astype(np.int64)
+    ew = np.concatenate([b, c, a, a, b, c]).astype(np.int64)
+    eo = np.concatenate([c, a, b, c, a, b])
+    et = np.tile(np.arange(len(idx)), 6)
+    keys = eu * n + ew
+    order = np.argsort(keys, kind="stable")
+    keys = keys[order]
+
+    def slot_of(u, w):
+        j = int(np.searchsorted(keys, u * n + w))
+        if j == len(keys) or keys[j] != u * n + w:
+            return None
+        return int(et[order[j]]), int(eo[order[j]])
+
+    drop = np.zeros(len(idx), dtype=bool)
+    extra = []
+    starts = np.r_[0, ends[:-1]].astype(np.int64)
+    for s0, s1 in zip(starts.tolist(), ends.tolist()):
+        ring_used = used[s0:s1]
+        if ring_used.all() or not ring_used.any():
+            continue
+        kept = s0 + np.flatnonzero(ring_used)
+        m = s1 - s0
+        for k in range(len(kept)):
+            u = int(kept[k])
+            w = int(kept[(k + 1) % len(kept)])
+            gap = (w - u) % m if w != u else m
+            if gap <= 1:
+                continue
+            run = [s0 + (u - s0 + j) % m for j in range(1, gap)]
+            hit = slot_of(u, w)
+            if hit is None:
+                continue
+            t, o = hit
+            P, Q = verts[u], verts[w]
+            D = Q - P
+            R = verts[run]
+            cross = D[0] * (R[:, 1] - P[1]) - D[1] * (R[:, 0] - P[0])
+            along = (R - P) @ D / (D @ D)
+            if (cross != 0).any() or not (np.all(np.diff(along) > 0) and along[0] > 0 and along[-1] < 1):
+                continue
+            chain = [u] + run + [w]
+            drop[t] = True
+            extra.extend((chain[j], chain[j + 1], o) for j in range(len(chain) - 1))
+    if not extra:
+        return idx
+    return np.concatenate([idx[~drop], np.array(extra, dtype=idx.dtype).reshape(-1, 3)])
 
 
 def triangulate(domain: Polygon | MultiPolygon) -> Triangulation:
