@@ -181,3 +181,29 @@ def test_pockets_joined_by_slivers_are_separate():
     assert len(P) == 7                     # four outer corners, the notch's tip and its two shoulders
     M = vt.mason(S, 1.0)
     assert M.is_valid and M.covers(vt.core(S, 1.0)) and vt.fillet(S, 1.0).covers(M)
+
+
+def test_rounding_cracks_between_parts_are_closed_with_a_warning():
+    """Two unit squares whose shared edge was computed twice miss each other by an ulp: one part, area 2."""
+    right = 1.0 + 2.0 ** -52
+    S = MultiPolygon([box(0, 0, 1, 1), box(right, 0, 2, 1)])
+    assert S.geom_type == "MultiPolygon" and S.distance(box(0, 0, 1, 1)) == 0
+    with pytest.warns(RepairWarning, match="rounding crack"):
+        F = vt.fillet(S, 0.25)
+    assert F.geom_type == "Polygon"
+    with pytest.warns(RepairWarning, match="rounding crack"):
+        R = vt.core(S, 0.25)
+    # One 2×1 rectangle: its core (opening) loses (4 − π)·r² at its four corners, and nothing else.
+    assert R.geom_type == "Polygon"
+    assert R.area == pytest.approx(2.0 - (4 - math.pi) * 0.25 ** 2, rel=1e-3)
+
+
+@pytest.mark.parametrize("S", [
+    MultiPolygon([box(0, 0, 1, 1), box(1, 1, 2, 2)]),                   # touching at a corner only
+    MultiPolygon([box(0, 0, 1, 1), box(1 + 1e-6, 0, 2, 1)]),            # a real gap, 5e-7 of the size
+])
+def test_parts_touching_at_a_point_or_a_real_gap_apart_are_left_alone(S):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RepairWarning)
+        F = vt.fillet(S, 0.25)
+    assert not F.is_empty

@@ -111,8 +111,7 @@ class _Context:
         self.G = _snap_vertices(G, self.centers, -1)
         shapely.prepare(self.E)
         shapely.prepare(self.G)
-        self.cxy = self.centers.xy
-        self.cside = self.centers.side.astype(np.int64)
+        self.cxy, self.cside = _distinct_centers(self.centers.xy, self.centers.side.astype(np.int64), r)
         self.ctree = shapely.STRtree(shapely.points(self.cxy)) if len(self.cxy) else None
         self._kd = {s: (cKDTree(self.cxy[self.cside == s]) if (self.cside == s).any() else None,
                         np.flatnonzero(self.cside == s)) for s in (1, -1)}
@@ -204,6 +203,27 @@ class _Context:
         if self.ctree is None:
             return np.zeros(0, int), np.zeros(0, int)
         return self.ctree.query(shapely.points(xy), predicate="dwithin", distance=radius)
+
+
+def _distinct_centers(xy: np.ndarray, side: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
+    """The centres with those of one side that coincide (within 1e-10·r) kept once.
+
+    Two vertices of a buffer can refine to one exact centre (GEOS leaves a short extra edge where offset
+    segments meet, a core pinched at a vertex has that vertex twice). A loop must not hold one disk under
+    two numbers: between them its tangent has no direction, and the search for missed contacts, which
+    inserts one disk per place a round, can keep filling that place without ever settling.
+    """
+    if len(xy) < 2:
+        return xy, side
+    keep = np.ones(len(xy), dtype=bool)
+    for s in (1, -1):
+        ids = np.flatnonzero(side == s)
+        if len(ids) < 2:
+            continue
+        pairs = cKDTree(xy[ids]).query_pairs(1e-10 * r, output_type="ndarray")
+        if len(pairs):
+            keep[ids[pairs.max(axis=1)]] = False
+    return xy[keep], side[keep]
 
 
 class _EngineError(RuntimeError):
@@ -595,7 +615,10 @@ def _tighten_ring(ctx: _Context, ring: np.ndarray) -> _DiskLoop | None:
         return None              # surgery at a point where a loop only grazes itself leaves a point: nothing
     k = ctx.component_of(ring)
     T, vcenter = ctx.triangulation(k)
-    portals = sleeve(T, ring)
+    try:
+        portals = sleeve(T, ring)
+    except ValueError as exc:     # a ring built by surgery from a loop the finish could not settle
+        raise _EngineError(f"a loop to tighten leaves the mortar ({exc})") from None
     geo = closed_geodesic(T, portals)
     if geo is None:
         return None
