@@ -443,6 +443,15 @@ def test_compare_prints_table_and_plots(tmp_path, capsys):
     assert plot.stat().st_size > 1000
 
 
+def test_compare_against_the_mask(tmp_path, capsys):
+    src = tmp_path / "two.wkt"
+    src.write_text("MULTIPOLYGON (((0 0, 6 0, 6 6, 0 6, 0 0)), ((6.015 0, 12 0, 12 6, 6.015 6, 6.015 0)))")
+    assert main(["compare", str(src), "-r", "1", "--pixel-size", "0.05", "--mask-reference"]) == 0
+    out = capsys.readouterr().out
+    rows = dict(line.split("  ", 1) for line in out.splitlines())
+    assert rows["agree"].strip().startswith("no") and rows["agree on the mask"].strip() == "yes"
+
+
 def test_compare_bad_plot_extension(tmp_path, capsys):
     src = tmp_path / "s.wkt"
     src.write_text("POLYGON ((0 0, 4 0, 4 4, 0 4, 0 0))")

@@ -2,12 +2,13 @@
 
 import math
 
+import numpy as np
 import pytest
 import shapely
 from shapely.geometry import Point, Polygon, box
 
 import vectortighten as vt
-from vectortighten.crosscheck import AGREE_PX, crosscheck
+from vectortighten.comparison import AGREE_PX, crosscheck
 
 CASES = {
     "L-shape": (Polygon([(0, 0), (12, 0), (12, 5), (5, 5), (5, 12), (0, 12)]), 1.5),
@@ -107,3 +108,33 @@ def test_bad_pixel_size():
         crosscheck(box(0, 0, 4, 4), 1.0, pixel_size=0)
     with pytest.raises(ValueError, match="too coarse|grid"):
         crosscheck(box(0, 0, 1e-3, 1e-3), 1e-4, pixel_size=1.0)
+
+
+def test_public_name_and_pixel_squares():
+    import raster
+
+    assert vt.crosscheck is crosscheck
+    S = Polygon([(0, 0), (7.3, 0), (2.1, 5.2)])
+    grid = raster.Grid.covering(S.bounds, 0.1, 0.3)
+    mask, _ = raster.rasterize(S, grid)
+    P = vt.pixel_squares(mask, grid)
+    assert P.is_valid
+    assert P.area == pytest.approx(mask.sum() * 0.01, rel=1e-12)
+    # Every pixel centre in the mask is inside the squares, every other one outside.
+    rows, cols = np.indices(mask.shape)
+    cx, cy = grid.to_world(rows.ravel(), cols.ravel())
+    assert (shapely.contains_xy(P, cx, cy) == mask.ravel()).all()
+
+
+def test_mask_reference_separates_rasterisation_from_the_flow():
+    """A gap of 0.3 pixel holds no pixel centre: S has two parts, its mask one block. The exact result of S
+    keeps two rounded squares, so the pixel result (one) disagrees with it; measured against the exact
+    tightening of the mask it was given, the pixel flow agrees."""
+    S = shapely.union(box(0, 0, 6, 6), box(6.015, 0, 12, 6))
+    c = crosscheck(S, 1.0, pixel_size=0.05, mask_reference=True)
+    assert c.vector_topology == (2, 0)
+    assert c.raster_topology == (1, 0) and c.mask_topology == (1, 0)
+    assert not c.agree
+    assert c.agree_on_mask and c.mask_hausdorff_px <= AGREE_PX
+    assert "exact of the mask" in c.table()
+    assert crosscheck(S, 1.0, pixel_size=0.05).agree_on_mask is None

@@ -7,6 +7,7 @@ straight segments and circular arcs of radius r.
 """
 
 from .centers import ArcCenters, arc_centers
+from .comparison import CrossCheck, crosscheck, pixel_squares
 from .curves import Arc, Loop, Segment, Side, common_tangents, disk_tangent, tangent_directions
 from .hull import relative_convex_hull
 from .metrics import is_r_regular, min_radius_of_curvature, n_components, n_holes, perimeter
@@ -37,11 +38,13 @@ __version__ = "0.1.0"
 __all__ = [
     "Arc",
     "ArcCenters",
+    "CrossCheck",
     "Init",
     "Tightening",
     "anticore",
     "arc_centers",
     "core",
+    "crosscheck",
     "fillet",
     "fillet_round",
     "grow",
@@ -52,6 +55,7 @@ __all__ = [
     "n_components",
     "n_holes",
     "perimeter",
+    "pixel_squares",
     "pockets",
     "relative_convex_hull",
     "round_fillet",

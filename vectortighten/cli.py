@@ -487,20 +487,23 @@ def _add_compare(sub) -> None:
     cmp_.add_argument("--iterations", type=_positive_int, default=1000, metavar="N",
                       help="most steps of the pixel flow per level; it stops once converged "
                            "(default 1000; the paper's budget is 100)")
+    cmp_.add_argument("--mask-reference", action="store_true",
+                      help="also tighten the rasterised input exactly and compare the pixel result with it "
+                           "(the flow's own error, without that of rasterising IN)")
     cmp_.add_argument("--plot", type=Path, default=None, metavar="OUT.png",
                       help="also draw the input with its mortar, both results and their difference")
 
 
 def _cmd_compare(args) -> int:
     from . import io
-    from .crosscheck import crosscheck, plot_crosscheck
+    from .comparison import crosscheck, plot_crosscheck
 
     if args.plot is not None and args.plot.suffix.lower() not in (".png", ".svg", ".pdf"):
         raise UsageError(f"{str(args.plot)!r}: the plot must be .png, .svg or .pdf")
     shape = io.read_shape(args.input)
     pixel = args.pixel_size or args.radius / 20
     check = crosscheck(shape, args.radius, pixel_size=pixel, init=args.init, levels=args.levels,
-                       iterations=args.iterations)
+                       iterations=args.iterations, mask_reference=args.mask_reference)
     print(check.table())
     if args.plot is not None:
         plot_crosscheck(check, args.plot, S=shape)

@@ -17,7 +17,7 @@ from scipy import ndimage
 
 from ._validation import check_radius, check_shape
 
-__all__ = ["AGREE_PX", "CrossCheck", "crosscheck", "plot_crosscheck"]
+__all__ = ["AGREE_PX", "CrossCheck", "crosscheck", "pixel_squares", "plot_crosscheck"]
 
 #: The agreement the project promises: boundaries within this many pixels (Hausdorff), equal topology.
 AGREE_PX = 2.0
@@ -43,6 +43,13 @@ class CrossCheck:
         (components, holes) of each result.
     vector, raster : object
         The two results (`Tightening` and `raster.RasterTightening`), and ``grid``, the `raster.Grid`.
+    mask_hausdorff_px : float or None
+        With ``mask_reference=True``: the Hausdorff distance (pixels) between the raster result and the
+        exact tightening of the rasterised input itself (the union of its pixel squares). This separates
+        the two sources of a disagreement: the flow's own error shows here, the rasterisation of S does
+        not (the mask is exactly what the flow was given).
+    mask_topology : (int, int) or None
+        (components, holes) of that exact tightening of the mask.
     """
 
     r: float
@@ -57,6 +64,8 @@ class CrossCheck:
     raster: object = field(repr=False)
     grid: object = field(repr=False)
     vector_mask: np.ndarray = field(repr=False)
+    mask_hausdorff_px: float | None = None
+    mask_topology: tuple | None = None
 
     @property
     def symmetric_difference_share(self) -> float:
@@ -72,6 +81,15 @@ class CrossCheck:
         """Equal topology and boundaries within `AGREE_PX` pixels."""
         return bool(self.same_topology and self.hausdorff_px <= AGREE_PX)
 
+    @property
+    def agree_on_mask(self) -> bool | None:
+        """Whether the raster result agrees (equal topology, ≤ `AGREE_PX`) with the exact tightening of
+        the mask it was computed from; None unless the check was made with ``mask_reference=True``."""
+        if self.mask_hausdorff_px is None:
+            return None
+        return bool(tuple(self.mask_topology) == tuple(self.raster_topology)
+                    and self.mask_hausdorff_px <= AGREE_PX)
+
     def table(self) -> str:
         """The comparison as a plain-text table."""
         rows = [
@@ -86,6 +104,12 @@ class CrossCheck:
                                      f"({100 * self.symmetric_difference_share:.3g}% of the mortar)"),
             ("agree", f"{'yes' if self.agree else 'no'} (equal topology and ≤ {AGREE_PX:g} px)"),
         ]
+        if self.mask_hausdorff_px is not None:
+            rows += [
+                ("exact of the mask: comp., holes", "%d, %d" % self.mask_topology),
+                ("raster vs exact of the mask", f"{self.mask_hausdorff_px:.3g} px"),
+                ("agree on the mask", "yes" if self.agree_on_mask else "no"),
+            ]
         width = max(len(k) for k, _ in rows)
         return "\n".join(f"{k:<{width}}  {v}" for k, v in rows)
 
@@ -98,8 +122,44 @@ def _topology(mask: np.ndarray) -> tuple[int, int]:
     return int(n_in), int(n_out) - 1
 
 
+def pixel_squares(mask: np.ndarray, grid):
+    """The union of a mask's pixel squares, in world coordinates: exactly the shape a pixel method sees.
+
+    The squares are unioned on integer corners, where shared edges coincide exactly, and only then scaled
+    onto the grid, so that neighbouring squares never miss each other by rounding.
+
+    Parameters
+    ----------
+    mask : (rows, cols) bool array
+        Row 0 is the top of the grid.
+    grid : raster.Grid
+        Places the pixels in the world (pixel side ``grid.pixel_size``, in the world's units).
+
+    Returns
+    -------
+    shapely Polygon or MultiPolygon (empty when the mask is)
+
+    Examples
+    --------
+    >>> import numpy as np, raster
+    >>> grid = raster.Grid(x0=0.0, y_top=2.0, pixel_size=0.5, shape=(4, 4))
+    >>> mask = np.zeros((4, 4), bool); mask[1:3, 1:4] = True
+    >>> P = pixel_squares(mask, grid)
+    >>> P.area, P.bounds
+    (1.5, (0.5, 0.5, 2.0, 1.5))
+    """
+    from shapely import affinity
+
+    rows, cols = np.nonzero(np.asarray(mask, dtype=bool))
+    if len(rows) == 0:
+        return shapely.Polygon()
+    squares = shapely.union_all(shapely.box(cols, -rows - 1, cols + 1, -rows))
+    h = grid.pixel_size
+    return affinity.affine_transform(squares, [h, 0.0, 0.0, h, grid.x0, grid.y_top])
+
+
 def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: int | None = None,
-               iterations: int = 1000) -> CrossCheck:
+               iterations: int = 1000, mask_reference: bool = False) -> CrossCheck:
     """Tighten S exactly and on pixels, and compare the two on the same grid.
 
     The grid covers S's bounds grown by 2r plus two pixels, so nothing a tightening adds leaves it. S is
@@ -122,6 +182,11 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
         where they settle (a comb's teeth merged into one block sink slowly towards its base), and a
         cross-check compares the definitions, not a time budget. ``levels=1`` runs the flow at full
         resolution only (thousands of steps).
+    mask_reference : bool
+        Also tighten the rasterised input exactly (`pixel_squares` of the mask) and compare the raster
+        result with it (``mask_hausdorff_px``, ``mask_topology``): the pixel flow measured on the very
+        input it was given, free of the error of rasterising S. Costs a second exact tightening, of a
+        staircase with many corners.
 
     Returns
     -------
@@ -153,16 +218,26 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
     RT = raster.tighten(mask, r / pixel_size, init=init, levels=levels, iterations=iterations)
     vmask, _ = raster.rasterize(T.geometry, grid) if not T.geometry.is_empty else (np.zeros_like(mask), grid)
     contour = raster.contours(RT, grid)
-    if T.geometry.is_empty and contour.is_empty:
-        h = 0.0
-    elif T.geometry.is_empty or contour.is_empty:
-        h = math.inf
-    else:
-        h = shapely.hausdorff_distance(T.geometry.boundary, contour.boundary, densify=0.25) / pixel_size
+    h = _boundary_distance(T.geometry, contour, pixel_size)
+    mask_h = mask_topo = None
+    if mask_reference:
+        TM = tighten(pixel_squares(mask, grid), r, init=init)
+        mask_topo = (TM.n_components, TM.n_holes)
+        mask_h = _boundary_distance(TM.geometry, contour, pixel_size)
     return CrossCheck(r=r, pixel_size=pixel_size, init=str(getattr(init, "value", init)), hausdorff_px=float(h),
                       symmetric_difference_px=int((vmask ^ RT.mask).sum()), mortar_px=int(RT.mortar.sum()),
                       vector_topology=(T.n_components, T.n_holes), raster_topology=_topology(RT.mask),
-                      vector=T, raster=RT, grid=grid, vector_mask=vmask)
+                      vector=T, raster=RT, grid=grid, vector_mask=vmask, mask_hausdorff_px=mask_h,
+                      mask_topology=mask_topo)
+
+
+def _boundary_distance(a, b, pixel_size: float) -> float:
+    """Hausdorff distance between the boundaries of two shapes, pixels (0 if both are empty, inf if one)."""
+    if a.is_empty and b.is_empty:
+        return 0.0
+    if a.is_empty or b.is_empty:
+        return math.inf
+    return float(shapely.hausdorff_distance(a.boundary, b.boundary, densify=0.25) / pixel_size)
 
 
 def plot_crosscheck(check: CrossCheck, path, *, S=None) -> None:
