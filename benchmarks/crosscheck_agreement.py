@@ -152,7 +152,8 @@ def main(argv=None) -> int:
             tally[init][3] += ok
             tally[init][4] += bool(c.agree_on_mask)
             mask_cols = (f"{c.mask_topology} | {c.mask_hausdorff_px:.2f} | {'yes' if c.agree_on_mask else 'no'}"
-                         if on_mask else "– | – | –")            lines.append(f"| {name} | {r:g} | {init} | {c.hausdorff_px:.2f} | "
+                         if on_mask else "– | – | –")
+            lines.append(f"| {name} | {r:g} | {init} | {c.hausdorff_px:.2f} | "
                          f"{100 * c.symmetric_difference_share:.1f}% | {c.vector_topology} | "
                          f"{c.raster_topology} | {'yes' if c.agree else 'no'} | {'yes' if ok else 'no'} "
                          f"| {mask_cols} | {time.perf_counter() - t0:.1f} |")
