@@ -79,7 +79,7 @@ class CrossCheck:
     @property
     def agree(self) -> bool:
         """Equal topology and boundaries within `AGREE_PX` pixels."""
-        return bool(self.same_topology and self.hausdorff_px <= AGREE_PX)
+        return _within_target(self.vector_topology, self.raster_topology, self.hausdorff_px)
 
     @property
     def agree_on_mask(self) -> bool | None:
@@ -87,8 +87,7 @@ class CrossCheck:
         the mask it was computed from; None unless the check was made with ``mask_reference=True``."""
         if self.mask_hausdorff_px is None:
             return None
-        return bool(tuple(self.mask_topology) == tuple(self.raster_topology)
-                    and self.mask_hausdorff_px <= AGREE_PX)
+        return _within_target(self.mask_topology, self.raster_topology, self.mask_hausdorff_px)
 
     def table(self) -> str:
         """The comparison as a plain-text table."""
@@ -112,6 +111,11 @@ class CrossCheck:
             ]
         width = max(len(k) for k, _ in rows)
         return "\n".join(f"{k:<{width}}  {v}" for k, v in rows)
+
+
+def _within_target(topology_a, topology_b, hausdorff_px: float) -> bool:
+    """Equal (components, holes) and boundaries within `AGREE_PX` pixels."""
+    return bool(tuple(topology_a) == tuple(topology_b) and hausdorff_px <= AGREE_PX)
 
 
 def _topology(mask: np.ndarray) -> tuple[int, int]:
