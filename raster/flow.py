@@ -296,43 +296,68 @@ def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np
 
     Only ``movable`` pixels change. A pixel flips when it differs from the target and flipping it changes no
     component or hole (or removes a one-pixel component or hole, so small parts can vanish as in the flow).
-    Pixels that cannot flip without merging or splitting keep the start's value, and so does every pixel
-    of the connected region of change around them: the result has the start's topology, up to vanished
-    parts, and equals the target elsewhere.
+
+    Where a flip would merge or split, the start's parts were pressed together (or pulled apart) on the
+    coarse grid. Two cases:
+
+    * a part (or a hole) that is *free*, every pixel of it movable, holds no constraint that keeps it
+      alive: the flow may shrink it to nothing, and the coarse level did (its flow never merges). Such a
+      part beside a refused pixel vanishes as a whole, and the flips go on, so that what the target holds
+      there regrows from the other side (a thin bar of the input, in the mortar, that a neighbour's front
+      sweeps over);
+    * otherwise the change is left to this level: every pixel of the connected region of change around a
+      refused pixel keeps the start's value, so that the flow starts there from this level's initial set
+      and re-grows (or re-shrinks) what truly belongs (changes that are not 8-adjacent never see each
+      other's pixels, so undoing one keeps every other flip simple).
+
+    The result has the start's topology up to vanished parts, and equals the target elsewhere.
     """
-    cur = np.pad(start, 1, mode="edge")
+    s0 = np.pad(start, 1, mode="edge")
+    cur = s0.copy()
     tgt = np.pad(target, 1, mode="edge")
     mov = np.pad(movable, 1, mode="constant")
-    H, W = cur.shape
+    W = cur.shape[1]
     flat = cur.ravel()
     offsets = np.array([dr * W + dc for dr, dc in _RING])
     weights = 1 << np.arange(8)
-    while True:
-        cand = np.flatnonzero(((cur != tgt) & mov).ravel())
-        if cand.size == 0:
-            break
-        parity = (cand // W % 2) * 2 + (cand % W % 2)
-        flipped = 0
-        for sub in range(4):
-            p = cand[parity == sub]
-            if p.size == 0:
-                continue
-            code = ((flat[p[:, None] + offsets[None, :]]) * weights).sum(axis=1)
-            was = flat[p]
-            ok = _SIMPLE[code] | ((code == 255) & ~was) | ((code == 0) & was)
-            flat[p[ok]] = ~was[ok]
-            flipped += int(ok.sum())
-        if not flipped:
-            break
-    # Where a pixel was refused, the parts on either side of it were pressed together by the coarse grid;
-    # the whole connected change around it is undone, so that the flow starts there from this level's
-    # initial set and re-grows (or re-shrinks) what truly belongs (changes that are not 8-adjacent never
-    # see each other's pixels, so undoing one keeps every other flip simple).
-    stuck = (cur != tgt) & mov
+
+    def flip_simple() -> np.ndarray:
+        while True:
+            cand = np.flatnonzero(((cur != tgt) & mov).ravel())
+            if cand.size == 0:
+                break
+            parity = (cand // W % 2) * 2 + (cand % W % 2)
+            flipped = 0
+            for sub in range(4):
+                p = cand[parity == sub]
+                if p.size == 0:
+                    continue
+                code = ((flat[p[:, None] + offsets[None, :]]) * weights).sum(axis=1)
+                was = flat[p]
+                ok = _SIMPLE[code] | ((code == 255) & ~was) | ((code == 0) & was)
+                flat[p[ok]] = ~was[ok]
+                flipped += int(ok.sum())
+            if not flipped:
+                break
+        return (cur != tgt) & mov
+
+    stuck = flip_simple()
     if stuck.any():
-        change, _ = ndimage.label((np.pad(start, 1, mode="edge") != tgt) & mov, structure=np.ones((3, 3), bool))
+        eight = np.ones((3, 3), bool)
+        near = ndimage.binary_dilation(stuck, structure=eight)
+        vanish = np.zeros_like(cur)
+        for side, structure in ((cur, eight), (~cur, None)):    # parts 8-connected, holes 4-connected
+            label, _ = ndimage.label(side, structure=structure)
+            anchored = np.unique(label[side & ~mov])
+            free = (label > 0) & ~np.isin(label, anchored)
+            vanish |= free & np.isin(label, np.unique(label[free & near]))
+        if vanish.any():
+            cur[vanish] = ~cur[vanish]
+            stuck = flip_simple()
+    if stuck.any():
+        change, _ = ndimage.label((s0 != tgt) & mov, structure=np.ones((3, 3), bool))
         undo = np.isin(change, np.unique(change[stuck]))
-        cur[undo] = np.pad(start, 1, mode="edge")[undo]
+        cur[undo] = s0[undo]
     return cur[1:-1, 1:-1].copy()
 
 
