@@ -17,8 +17,9 @@ and outside. The steps follow the paper:
 * multiscale: the constraints are sampled every 2^k pixels for k = L−1, …, 0 where the coarsest pixel
   is still a little smaller than r/2 (the paper's five levels at r = 40 and six at r = 75); the flow
   runs at the coarsest level, Φ is doubled in resolution by linear interpolation and flows again;
-* at most ``iterations`` steps a level, and an early stop when the front no longer moves (no pixel
-  changes sign and Φ on the front changes by less than ``stop`` pixels in a step).
+* at most ``iterations`` steps a level, and an early stop when the front rests: no pixel changes sign
+  for `STOP_WINDOW` (50) steps and over those steps Φ near the front changes, net, by less than
+  ``stop`` pixels a step.
 
 Everything is symmetric under Φ → −Φ, so with ``init="input"`` the flow commutes with complementing the
 image, pixel for pixel.
@@ -39,6 +40,8 @@ __all__ = ["RasterTightening", "tighten", "signed_distance", "default_levels"]
 
 INITS = ("core", "input", "mason")
 _EPS = 1e-12
+#: Steps over which a level's rest is judged (see `tighten`'s ``stop``).
+STOP_WINDOW = 50
 
 
 @dataclass
@@ -411,6 +414,7 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
     stale = own_front
     ring_offsets = np.array([dr * Wp + dc for dr, dc in _RING])
     ring_weights = 1 << np.arange(8)
+    snapshot, last_flip = None, 0
     for steps in range(1, iterations + 1):
         if band.idx.size == 0:
             steps -= 1
@@ -430,9 +434,17 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
         # Keep the frame equal to the border pixels (edge replication).
         P[0, :], P[-1, :], P[:, 0], P[:, -1] = P[1, :], P[-2, :], P[:, 1], P[:, -2]
         flips = (old < 0) != (new < 0)
-        moved = float(np.abs(new - old)[np.abs(new) <= 1.0].max(initial=0.0))
-        if not flips.any() and moved < stop:
-            break
+        if flips.any():
+            last_flip = steps
+        if steps % STOP_WINDOW == 0:
+            # Rest is judged on the net change over a window: a pixel that swings in place every step (at a
+            # constraint's corner, say) moves Φ by a tenth of a pixel a step forever and never rests step
+            # by step, while the front it sits on has long stopped.
+            if snapshot is not None and steps - last_flip >= STOP_WINDOW:
+                near = np.abs(P) <= 1.0
+                if float(np.abs(P - snapshot)[near].max(initial=0.0)) < stop * STOP_WINDOW:
+                    break
+            snapshot = P.copy()
         # Rebuild the band when the front reaches its rim; inside it, the band still holds the front.
         rebuild = flips.any() and band.rim[flips].any()
         if rebuild:
@@ -488,8 +500,9 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
     iterations : int
         Largest number of steps a level (the paper's 100).
     stop : float
-        Early stop: a level ends when no pixel changes sign and Φ on the front moves less than this
-        (pixels) in one step.
+        Early stop: a level ends when no pixel has changed sign for `STOP_WINDOW` steps and over those
+        steps Φ within a pixel of the front has changed, net, by less than this many pixels a step (net,
+        so that a pixel swinging in place does not keep a resting front flowing).
 
     Returns
     -------
