@@ -123,7 +123,9 @@ def _close_cracks(S, name: str):
     closed = shapely.union_all(grown[involved]).buffer(-eps, join_style="mitre", mitre_limit=10.0)
     rest = np.setdiff1d(np.arange(len(parts)), involved)
     merged = shapely.union_all(np.append(parts[rest], closed))
-    if not merged.is_valid or merged.is_empty:
+    if not merged.is_valid or merged.is_empty or shapely.get_num_geometries(merged) >= len(parts):
+        # Nothing was joined: the overlap came from sharp corners meeting at a point (their mitres reach
+        # further than a crack's width), not from a crack.
         return S
     warnings.warn(f"{name}: {len(involved)} parts lay within {eps:.3g} (a rounding crack) of one another along "
                   f"an edge; closed the cracks, leaving {len(getattr(merged, 'geoms', [merged]))} part(s)",
