@@ -14,11 +14,13 @@ the loop is homotopic to the ring in the mortar.
 
 How it is checked: from the edges of S alone, never from GEOS's buffers (which simplify dense input by up
 to r/100, more than any slack could allow). Disk centres and straight pieces must keep distance r from
-every edge (`_closer_than`: a k-d tree over the vertices, exact distances for the few candidates); points
-along each arc must keep distance r from the shrink's boundary (convex vertices) or the grow's (reflex
-ones), which the offset edges and the arcs around the other kind of vertex contain (`_arcs_clear`). The
-arcs are sampled every π/16: a violation between two samples and shallower than the sampling's sagitta
-can go unseen.
+every edge; points along each arc must keep distance r from the shrink's boundary (convex vertices) or the
+grow's (reflex ones), which the offset edges and the arcs around the other kind of vertex contain. First
+by certificates (`_offset_certified`, `_loop_certified`): when the offset curves, and the rings with their
+corners rounded, do not touch themselves, all of that holds, and checking it costs a search among
+neighbouring pieces only. Where a certificate fails, by the exact distance tests: `_closer_than` (a k-d
+tree over the vertices, exact distances for the few candidates) and `_arcs_clear`, whose arcs are sampled
+every π/16 (a violation between two samples and shallower than the sampling's sagitta can go unseen).
 """
 
 from __future__ import annotations
@@ -132,15 +134,151 @@ def fast_disk_loops(S, r: float, q: int, init: str):
         return None                                     # two disks do not fit on one edge
     length = np.maximum(D.length, 0.0)
     shapely.prepare(S)
-    if not _centers_valid(D, S):
-        return None
-    if not _arcs_clear(D):
-        return None
-    if init != "input" and not _reaches_edges(D, S, 1):
-        return None
-    if init == "mason" and not _reaches_edges(D, S, -1):
-        return None
+    inside = shapely.contains_xy(S, D.c[:, 0], D.c[:, 1])
+    if ((D.side > 0) != inside).any():
+        return None                                     # a disk on the wrong side of S
+    limit = r * (1 - _EXACT)
+    for side in (1, -1):
+        # The straight pieces must lie on the core's boundary for init="core" (side +1) and, with the
+        # anticore's too, for "mason".
+        edges = init != "input" if side > 0 else init == "mason"
+        if _offset_certified(D, S, side):
+            # Every disk centre of this side is r from S, and so is every straight piece moved by r.
+            if edges and not _moved_pieces_in(D, S, side):
+                return None
+            if not _loop_certified(D, side) and not _arcs_clear(D, side):
+                return None
+            continue
+        # Not certified (pieces that touch or nearly do, very short edges): the exact distance tests.
+        mine = D.side == side
+        if mine.any() and _closer_than(D, D.c[mine], D.c[mine], limit):
+            return None
+        if not _arcs_clear(D, side):
+            return None
+        if edges and not _reaches_edges(D, S, side):
+            return None
     return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl]) for sl in D.slices]
+
+
+# -- certificates: the offset curves do not touch themselves ---------------------------------------------
+# Why a curve that does not touch itself settles the distance tests (exact arithmetic; `_CONTACT` covers the
+# rounding). Side +1; side −1 is the same outside S.
+#
+# C, the raw offset curve of a ring, is the ring's edges moved by r into S and cut at the disks' centres
+# (`_Rings.offsets`) joined by the arcs of radius r around the reflex vertices (`_Rings.arcs`); consecutive
+# pieces meet at their common end only (at a centre the turn is below π, an arc is tangent to its
+# segments), and every point of C is at distance exactly r from the edge or vertex it comes from. Let
+# f = dist(·, ∂S) − r on C, so f ≤ 0. Where f < 0 next to a point q of C with f(q) = 0, some other edge
+# (or reflex vertex) is at distance exactly r from q, and its nearest point y is where the disk of radius r
+# around q touches ∂S, from inside S: y is inside the edge, in its part that C keeps (a point of the rest,
+# within r·tan(θ/2) of a convex end, has the neighbouring edge nearer than r), or a reflex vertex whose
+# normal cone holds q − y. Either way q lies on the piece of C that comes from y too: two pieces of C that
+# are not consecutive meet at q. So if no two such pieces come within `_CONTACT` of each other, f is 0 all
+# along each closed curve or negative all along it, and one point of each, tested exactly, tells which.
+# Then every disk centre of that side is at distance r from ∂S, and so is every straight piece moved by r.
+#
+# Given that, C (all rings) is the boundary of the shrink K, and the core is the set of points nearer than
+# r to K. L, the ring with its convex corners replaced by their arcs, is C moved back by r; let
+# g = dist(·, K) − r on L, so g ≤ 0, and g = 0 on ∂S (each disk around a point of K lies in S), which L
+# meets at every tangent point. A point q of an arc where g becomes negative next to it is at distance r
+# from a point z of K other than the arc's centre (K near that centre is the wedge of its two pieces, which
+# is no nearer), so q also lies on the piece of L that comes from z: again two pieces of L that are not
+# consecutive meet. If none come within `_CONTACT`, no arc enters the core.
+#
+# The checks look at the pieces near each piece only (a k-d tree over their midpoints, balls a few pieces
+# wide), so they cost about as much as building the tree, however closely a ring runs at distance r from
+# another part of S. When a check fails (pieces that touch or nearly do, very short pieces) the caller runs
+# the exact distance tests instead, which decide.
+
+_CONTACT = 1e-7       # pieces closer than this (× r) count as touching: 100× the exact tests' slack
+
+
+def _offset_certified(D: _Rings, S, side: int) -> bool:
+    """Whether the raw offset curves of this side provably keep distance r from every edge of S."""
+    if (D.length <= _CONTACT * D.r).any():
+        return False                          # a piece too short for its direction to be sure
+    pieces = D.offsets(side)
+    centres, start, sweep = D.arcs(side)
+    k = np.flatnonzero(D.side != side)        # vertices with an arc, in the order of `_Rings.arcs`
+    arc_a = centres + D.r * np.column_stack([np.cos(start), np.sin(start)])
+    arc_b = centres + D.r * np.column_stack([np.cos(start + sweep), np.sin(start + sweep)])
+    A, B, fat, nxt = _chain(D, k, arc_a, arc_b, D.r * (1 - np.cos(0.5 * sweep)), pieces[:, 0], pieces[:, 1])
+    if not _separated(A, B, fat, nxt, _CONTACT * D.r):
+        return False
+    # One point of each ring's curve, the start of its first straight piece, decides the sign of f there.
+    p0 = pieces[[sl.start for sl in D.slices], 0]
+    if (shapely.contains_xy(S, p0[:, 0], p0[:, 1]) != (side > 0)).any():
+        return False
+    return not _closer_than(D, p0, p0, D.r * (1 - _EXACT))
+
+
+def _loop_certified(D: _Rings, side: int) -> bool:
+    """Whether no arc of this side can enter the core (+1) or the anticore (−1); given
+    `_offset_certified` for the same side."""
+    k = np.flatnonzero(D.side == side)        # vertices whose corner this side rounds
+    t = D.t
+    arc_a = D.v[k] - t[k, None] * D.u[D.prev[k]]
+    arc_b = D.v[k] + t[k, None] * D.u[k]
+    own = D.side == side
+    seg_a = D.v + np.where(own, t, 0.0)[:, None] * D.u
+    seg_b = D.v[D.next] - np.where(own[D.next], t[D.next], 0.0)[:, None] * D.u
+    fat = D.r * (1 - np.cos(0.5 * D.theta[k]))
+    A, B, fat, nxt = _chain(D, k, arc_a, arc_b, fat, seg_a, seg_b)
+    return _separated(A, B, fat, nxt, _CONTACT * D.r)
+
+
+def _chain(D: _Rings, k: np.ndarray, arc_a, arc_b, arc_fat, seg_a, seg_b):
+    """One closed chain of pieces per ring: at vertex i the arc (if i is in ``k``, sorted) then the segment
+    on edge i. Returns chord ends ``A``, ``B``, how far each piece may stray from its chord (``fat``, the
+    sagitta of an arc; > 0 marks the arcs) and the index of the next piece of the same ring."""
+    nv = len(D.v)
+    has_arc = np.zeros(nv, bool)
+    has_arc[k] = True
+    count = 1 + has_arc
+    seg_at = np.cumsum(count) - 1             # index of edge i's segment; its arc, if any, just before
+    m = int(count.sum())
+    A, B, fat = np.empty((m, 2)), np.empty((m, 2)), np.zeros(m)
+    A[seg_at], B[seg_at] = seg_a, seg_b
+    A[seg_at[k] - 1], B[seg_at[k] - 1], fat[seg_at[k] - 1] = arc_a, arc_b, np.maximum(arc_fat, 1e-300)
+    nxt = np.arange(1, m + 1)
+    for sl in D.slices:                       # the last piece of a ring is followed by its first
+        first = seg_at[sl.start] - has_arc[sl.start]
+        nxt[seg_at[sl.stop - 1]] = first
+    return A, B, fat, nxt
+
+
+def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, eps: float) -> bool:
+    """Whether every two pieces that are not consecutive are at least ``eps`` apart.
+
+    Piece i lies within ``fat[i]`` of the segment A[i]→B[i] (``fat > 0`` marks an arc); the distance
+    between two pieces is bounded below by that of their segments minus both ``fat``. The two segments on
+    either side of an arc are exempt too: they are tangent to its circle at its ends and run away from each
+    other (its sweep is below π), so they are the arc's chord apart, however short it is. Candidates come
+    from a k-d tree over the midpoints (pieces up to a few times the typical length) and an STRtree (the few
+    longer ones).
+    """
+    mid = 0.5 * (A + B)
+    rho = 0.5 * np.hypot(*(B - A).T) + fat
+    # Balls as small as the pieces allow: all of them when their lengths are alike.
+    h = max(min(float(rho.max()), 2.0 * float(np.percentile(rho, 95))), eps)
+    short = np.flatnonzero(rho <= h)
+    pairs = [short[_tree(mid[short]).query_pairs(2.0 * h + eps, output_type="ndarray")]]
+    long_ = np.flatnonzero(rho > h)
+    if len(long_):
+        chords = shapely.linestrings(np.stack([A, B], axis=1))
+        i, j = shapely.STRtree(chords).query(chords[long_], predicate="dwithin",
+                                             distance=2.0 * float(fat.max()) + eps)
+        pairs.append(np.column_stack([long_[i], j]))
+    i, j = np.concatenate(pairs).T
+    across = np.where(fat[nxt] > 0, nxt[nxt], nxt)        # the piece after the next arc, if any
+    keep = (i != j) & (nxt[i] != j) & (nxt[j] != i) & (across[i] != j) & (across[j] != i)
+    i, j = i[keep], j[keep]
+    keep = np.hypot(*(mid[i] - mid[j]).T) <= rho[i] + rho[j] + eps
+    i, j = i[keep], j[keep]
+    if len(i) == 0:
+        return True
+    gap = _segment_distances(A[i], B[i], A[j], B[j]) - fat[i] - fat[j]
+    return bool((gap >= eps).all())
 
 
 def _segment_distances(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -251,24 +389,9 @@ def _near_short_edges(D: _Rings, tree: cKDTree, p: np.ndarray, q: np.ndarray, ha
     return False
 
 
-def _centers_valid(D: _Rings, S) -> bool:
-    """Every disk lies in S at distance ≥ r from its boundary (convex vertices) or outside, at distance
-    ≥ r from S (reflex vertices).
-
-    Decided exactly (up to rounding, `_EXACT`) from the edges of S, not from the buffered shrink and grow:
-    GEOS simplifies a buffer's input by up to r/100, which on dense rings moves them further than any
-    slack could allow.
-    """
-    r = D.r
-    inner = D.side > 0
-    inside = shapely.contains_xy(S, D.c[:, 0], D.c[:, 1])
-    if (inner != inside).any():
-        return False
-    return not _closer_than(D, D.c, D.c, r * (1 - _EXACT))
-
-
-def _arcs_clear(D: _Rings) -> bool:
-    """No arc enters the core (convex vertices) or the anticore (reflex vertices) elsewhere.
+def _arcs_clear(D: _Rings, side: int) -> bool:
+    """No arc of this side enters the core (side +1, convex vertices) or the anticore (side −1, reflex
+    vertices) elsewhere.
 
     Decided from the edges of S, not from GEOS's opening and closing (which simplify dense input by up to
     r/100). A point x of a convex vertex's arc lies within r of that vertex, so not in the shrink; it is
@@ -281,27 +404,24 @@ def _arcs_clear(D: _Rings) -> bool:
     at points every π/16 at most (slightly outside their own disk, which the pieces at its centre touch).
     """
     r = D.r
-    m = np.maximum(2, np.ceil(np.abs(D.theta) / (math.pi / 16)).astype(np.int64))
-    owner = np.repeat(np.arange(len(D.v)), m - 1)
+    mine = np.flatnonzero(D.side == side)
+    if len(mine) == 0:
+        return True
+    m = np.maximum(2, np.ceil(np.abs(D.theta[mine]) / (math.pi / 16)).astype(np.int64))
+    owner = np.repeat(mine, m - 1)
     first = np.repeat(np.cumsum(m - 1) - (m - 1), m - 1)
     frac = (np.arange(len(owner)) - first + 1) / np.repeat(m, m - 1)
-    a0 = D.phi[D.prev] - D.side * (math.pi / 2)
-    th = a0[owner] + D.theta[owner] * frac
+    a0 = D.phi[D.prev[owner]] - side * (math.pi / 2)
+    th = a0 + D.theta[owner] * frac
     # Just outside its own disk (by rounding-proof 1e-8·r): the pieces that meet at the disk's centre are
     # then no nearer than r, and only another part of the shrink's (grow's) boundary can come nearer.
-    probes = D.c[owner] + (r * (1 + 1e-8)) * np.column_stack([np.cos(th), np.sin(th)])
+    x = D.c[owner] + (r * (1 + 1e-8)) * np.column_stack([np.cos(th), np.sin(th)])
     limit = r * (1 - _EXACT)
-    for side in (1, -1):
-        x = probes[D.side[owner] == side]
-        if len(x) == 0:
-            continue
-        pieces = D.offsets(side)
-        if _points_near_segments(x, pieces[:, 0], pieces[:, 1], limit):
-            return False
-        centres, start, sweep = D.arcs(side)
-        if len(centres) and _points_near_arcs(x, centres, start, sweep, r, limit):
-            return False
-    return True
+    pieces = D.offsets(side)
+    if _points_near_segments(x, pieces[:, 0], pieces[:, 1], limit):
+        return False
+    centres, start, sweep = D.arcs(side)
+    return not (len(centres) and _points_near_arcs(x, centres, start, sweep, r, limit))
 
 
 def _point_segment_distances(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -368,6 +488,23 @@ def _points_near_arcs(x: np.ndarray, centres: np.ndarray, start: np.ndarray, swe
     return bool((np.where(inside, d_circle, d_ends) < limit).any())
 
 
+def _moved_pieces(D: _Rings, side: int):
+    """The straight pieces of positive length moved by r into S (side +1) or out of it (−1): ``(a, b)`` and
+    which pieces they are."""
+    keep = np.flatnonzero(D.length > 0)
+    a = D.c[keep] - (D.side[keep] * D.r)[:, None] * D.n[keep] + side * D.r * D.n[keep]
+    b = a + D.length[keep][:, None] * D.u[keep]
+    return a, b, keep
+
+
+def _moved_pieces_in(D: _Rings, S, side: int) -> bool:
+    """Whether the midpoint of every moved straight piece (`_moved_pieces`) is in S (side +1) or outside
+    it (−1)."""
+    a, b, _ = _moved_pieces(D, side)
+    mid = 0.5 * (a + b)
+    return bool((shapely.contains_xy(S, mid[:, 0], mid[:, 1]) == (side > 0)).all())
+
+
 def _reaches_edges(D: _Rings, S, side: int) -> bool:
     """Every straight piece lies on the boundary of the core (side +1) or of the anticore (side −1).
 
@@ -377,15 +514,9 @@ def _reaches_edges(D: _Rings, S, side: int) -> bool:
     outwards and outside S. Decided exactly from the edges of S. Needed for ``init="core"`` (the core's
     rings must be the rings of S) and, with both sides, for ``"mason"``.
     """
-    r = D.r
-    keep = D.length > 0
-    if not keep.any():
-        return True
-    a = D.c[keep] - (D.side[keep] * r)[:, None] * D.n[keep] + side * r * D.n[keep]
-    b = a + np.maximum(D.length[keep], 0)[:, None] * D.u[keep]
-    mid = 0.5 * (a + b)
-    if (shapely.contains_xy(S, mid[:, 0], mid[:, 1]) != (side > 0)).any():
+    if not _moved_pieces_in(D, S, side):
         return False
-    # Ends at a disk's centre were found r from every edge by `_centers_valid`.
+    a, b, keep = _moved_pieces(D, side)
+    # Ends at a disk's centre of this side were found r from every edge before.
     known = (D.side[keep] == side, D.side[D.next[keep]] == side)
-    return not _closer_than(D, a, b, r * (1 - _EXACT), known)
+    return not _closer_than(D, a, b, D.r * (1 - _EXACT), known)
