@@ -16,7 +16,7 @@ How it is checked: from the edges of S alone, never from GEOS's buffers (which s
 to r/100, more than any slack could allow). Disk centres and straight pieces must keep distance r from
 every edge; points along each arc must keep distance r from the shrink's boundary (convex vertices) or the
 grow's (reflex ones), which the offset edges and the arcs around the other kind of vertex contain. First
-by certificates (`_offset_certified`, `_loop_certified`): when the offset curves, and the rings with their
+by certificates (`_offset_certified`, `_rounded_certified`): when the offset curves, and the rings with their
 corners rounded, do not touch themselves, all of that holds, and checking it costs a search among
 neighbouring pieces only. Where a certificate fails, by the exact distance tests: `_closer_than` (a k-d
 tree over the vertices, exact distances for the few candidates) and `_arcs_clear`, whose arcs are sampled
@@ -134,19 +134,25 @@ def fast_disk_loops(S, r: float, q: int, init: str):
         return None                                     # two disks do not fit on one edge
     length = np.maximum(D.length, 0.0)
     shapely.prepare(S)
-    inside = shapely.contains_xy(S, D.c[:, 0], D.c[:, 1])
-    if ((D.side > 0) != inside).any():
-        return None                                     # a disk on the wrong side of S
+    certified = {side: _offset_certified(D, S, side) for side in (1, -1)}
+    # A certified side's offset curves lie wholly in S (+1) or outside it (−1), and its centres with them.
+    open_ = np.flatnonzero([not certified[s] for s in D.side.astype(int)]) if not all(certified.values()) \
+        else np.zeros(0, np.int64)
+    if len(open_):
+        inside = shapely.contains_xy(S, D.c[open_, 0], D.c[open_, 1])
+        if ((D.side[open_] > 0) != inside).any():
+            return None                                 # a disk on the wrong side of S
     limit = r * (1 - _EXACT)
+    rounded = None
     for side in (1, -1):
         # The straight pieces must lie on the core's boundary for init="core" (side +1) and, with the
         # anticore's too, for "mason".
         edges = init != "input" if side > 0 else init == "mason"
-        if _offset_certified(D, S, side):
+        if certified[side]:
             # Every disk centre of this side is r from S, and so is every straight piece moved by r.
-            if edges and not _moved_pieces_in(D, S, side):
-                return None
-            if not _loop_certified(D, side) and not _arcs_clear(D, side):
+            if rounded is None:
+                rounded = _rounded_certified(D)
+            if not rounded and not _arcs_clear(D, side):
                 return None
             continue
         # Not certified (pieces that touch or nearly do, very short edges): the exact distance tests.
@@ -209,21 +215,26 @@ def _offset_certified(D: _Rings, S, side: int) -> bool:
     p0 = pieces[[sl.start for sl in D.slices], 0]
     if (shapely.contains_xy(S, p0[:, 0], p0[:, 1]) != (side > 0)).any():
         return False
-    return not _closer_than(D, p0, p0, D.r * (1 - _EXACT))
+    limit = D.r * (1 - _EXACT)
+    if len(p0) * len(D.v) > 4_000_000:
+        return not _closer_than(D, p0, p0, limit)
+    # Few rings: every edge against every point, without building the k-d tree.
+    a, b = D.v, D.v[D.next]
+    return all((_point_segment_distances(x[None, :], a, b) >= limit).all() for x in p0)
 
 
-def _loop_certified(D: _Rings, side: int) -> bool:
-    """Whether no arc of this side can enter the core (+1) or the anticore (−1); given
-    `_offset_certified` for the same side."""
-    k = np.flatnonzero(D.side == side)        # vertices whose corner this side rounds
+def _rounded_certified(D: _Rings) -> bool:
+    """Whether no arc of a certified side (`_offset_certified`) can enter the core (+1) or the anticore (−1).
+
+    One chain serves both sides: every corner's arc, each followed by its whole outgoing edge. The rings
+    with only the convex (or only the reflex) corners rounded are made of these arcs and parts of these
+    edges, with the same pieces next to each other, so if this chain does not touch itself neither do they.
+    """
     t = D.t
-    arc_a = D.v[k] - t[k, None] * D.u[D.prev[k]]
-    arc_b = D.v[k] + t[k, None] * D.u[k]
-    own = D.side == side
-    seg_a = D.v + np.where(own, t, 0.0)[:, None] * D.u
-    seg_b = D.v[D.next] - np.where(own[D.next], t[D.next], 0.0)[:, None] * D.u
-    fat = D.r * (1 - np.cos(0.5 * D.theta[k]))
-    A, B, fat, nxt = _chain(D, k, arc_a, arc_b, fat, seg_a, seg_b)
+    arc_a = D.v - t[:, None] * D.u[D.prev]
+    arc_b = D.v + t[:, None] * D.u
+    fat = D.r * (1 - np.cos(0.5 * D.theta))
+    A, B, fat, nxt = _chain(D, np.arange(len(D.v)), arc_a, arc_b, fat, D.v, D.v[D.next])
     return _separated(A, B, fat, nxt, _CONTACT * D.r)
 
 
@@ -261,19 +272,24 @@ def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, e
     rho = 0.5 * np.hypot(*(B - A).T) + fat
     # Balls as small as the pieces allow: all of them when their lengths are alike.
     h = max(min(float(rho.max()), 2.0 * float(np.percentile(rho, 95))), eps)
-    short = np.flatnonzero(rho <= h)
-    pairs = [short[_tree(mid[short]).query_pairs(2.0 * h + eps, output_type="ndarray")]]
-    long_ = np.flatnonzero(rho > h)
-    if len(long_):
+    short = rho <= h
+    idx = np.flatnonzero(short)
+    pairs = _tree(mid[idx]).query_pairs(2.0 * h + eps, output_type="ndarray")
+    if len(idx) < len(A):
+        pairs = idx[pairs]
+    # Most pairs are neighbours along a ring: i < j here, so j − i ≤ 1 settles them before anything else.
+    pairs = pairs[pairs[:, 1] - pairs[:, 0] >= 2]
+    if not short.all():
+        long_ = np.flatnonzero(~short)
         chords = shapely.linestrings(np.stack([A, B], axis=1))
         i, j = shapely.STRtree(chords).query(chords[long_], predicate="dwithin",
                                              distance=2.0 * float(fat.max()) + eps)
-        pairs.append(np.column_stack([long_[i], j]))
-    i, j = np.concatenate(pairs).T
+        pairs = np.concatenate([pairs, np.column_stack([long_[i], j])])
+    i, j = pairs.T
+    keep = np.hypot(*(mid[i] - mid[j]).T) <= rho[i] + rho[j] + eps
+    i, j = i[keep], j[keep]
     across = np.where(fat[nxt] > 0, nxt[nxt], nxt)        # the piece after the next arc, if any
     keep = (i != j) & (nxt[i] != j) & (nxt[j] != i) & (across[i] != j) & (across[j] != i)
-    i, j = i[keep], j[keep]
-    keep = np.hypot(*(mid[i] - mid[j]).T) <= rho[i] + rho[j] + eps
     i, j = i[keep], j[keep]
     if len(i) == 0:
         return True
@@ -488,23 +504,6 @@ def _points_near_arcs(x: np.ndarray, centres: np.ndarray, start: np.ndarray, swe
     return bool((np.where(inside, d_circle, d_ends) < limit).any())
 
 
-def _moved_pieces(D: _Rings, side: int):
-    """The straight pieces of positive length moved by r into S (side +1) or out of it (−1): ``(a, b)`` and
-    which pieces they are."""
-    keep = np.flatnonzero(D.length > 0)
-    a = D.c[keep] - (D.side[keep] * D.r)[:, None] * D.n[keep] + side * D.r * D.n[keep]
-    b = a + D.length[keep][:, None] * D.u[keep]
-    return a, b, keep
-
-
-def _moved_pieces_in(D: _Rings, S, side: int) -> bool:
-    """Whether the midpoint of every moved straight piece (`_moved_pieces`) is in S (side +1) or outside
-    it (−1)."""
-    a, b, _ = _moved_pieces(D, side)
-    mid = 0.5 * (a + b)
-    return bool((shapely.contains_xy(S, mid[:, 0], mid[:, 1]) == (side > 0)).all())
-
-
 def _reaches_edges(D: _Rings, S, side: int) -> bool:
     """Every straight piece lies on the boundary of the core (side +1) or of the anticore (side −1).
 
@@ -514,9 +513,15 @@ def _reaches_edges(D: _Rings, S, side: int) -> bool:
     outwards and outside S. Decided exactly from the edges of S. Needed for ``init="core"`` (the core's
     rings must be the rings of S) and, with both sides, for ``"mason"``.
     """
-    if not _moved_pieces_in(D, S, side):
+    r = D.r
+    keep = D.length > 0
+    if not keep.any():
+        return True
+    a = D.c[keep] - (D.side[keep] * r)[:, None] * D.n[keep] + side * r * D.n[keep]
+    b = a + np.maximum(D.length[keep], 0)[:, None] * D.u[keep]
+    mid = 0.5 * (a + b)
+    if (shapely.contains_xy(S, mid[:, 0], mid[:, 1]) != (side > 0)).any():
         return False
-    a, b, keep = _moved_pieces(D, side)
     # Ends at a disk's centre of this side were found r from every edge before.
     known = (D.side[keep] == side, D.side[D.next[keep]] == side)
-    return not _closer_than(D, a, b, D.r * (1 - _EXACT), known)
+    return not _closer_than(D, a, b, r * (1 - _EXACT), known)
