@@ -159,3 +159,63 @@ def test_fast_path_results_unchanged_by_the_certificates(monkeypatch):
             assert len(A.loops) == len(B.loops)
             for a, b in zip(A.loops, B.loops, strict=True):
                 assert np.array_equal(a._data, b._data) and np.array_equal(a._arc, b._arc)
+
+
+def _separated_brute(A, B, fat, nxt, eps):
+    m = len(A)
+    i, j = np.triu_indices(m, 1)
+    across = np.where(fat[nxt] > 0, nxt[nxt], nxt)
+    keep = (nxt[i] != j) & (nxt[j] != i) & (across[i] != j) & (across[j] != i)
+    i, j = i[keep], j[keep]
+    gap = _fast._segment_distances(A[i], B[i], A[j], B[j]) - fat[i] - fat[j]
+    return bool((gap >= eps).all())
+
+
+def _random_chains(sizes, seed, long_share):
+    """Closed chains: star-shaped rings (simple, a few pieces much longer than the rest) and random walks
+    closed on themselves (often crossing or nearly touching), some pieces marked as arcs."""
+    rng = np.random.default_rng(seed)
+    A, B, fat, nxt, first = [], [], [], [], []
+    start = 0
+    for n in sizes:
+        if rng.random() < 0.6:
+            th = np.sort(rng.uniform(0, 2 * np.pi, n))
+            rad = rng.uniform(3.0, 3.3, n) * (1 + 2 * (rng.random(n) < long_share))
+            pts = np.column_stack([rad * np.cos(th), rad * np.sin(th)]) + rng.normal(size=2) * 12
+        else:
+            steps = rng.normal(size=(n, 2)) * np.where(rng.random(n) < long_share, 8.0, 1.0)[:, None]
+            steps -= steps.mean(axis=0)
+            pts = np.cumsum(steps, axis=0) + rng.normal(size=2) * 5
+        A.append(pts)
+        B.append(np.roll(pts, -1, axis=0))
+        is_arc = rng.random(n) < 0.3
+        is_arc &= ~np.roll(is_arc, 1)             # arcs never follow arcs
+        fat.append(np.where(is_arc, rng.uniform(1e-6, 0.2, n), 0.0))
+        nxt.append(start + (np.arange(n) + 1) % n)
+        first.append(np.full(n, start))
+        start += n
+    return map(np.concatenate, (A, B, fat, nxt, first))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.integers(3, 60), min_size=1, max_size=4), st.integers(0, 2**32 - 1), st.floats(0.0, 0.3))
+def test_separated_agrees_with_all_pairs(sizes, seed, long_share):
+    # The candidate search may not miss a pair that the test of all pairs finds.
+    A, B, fat, nxt, first = _random_chains(sizes, seed, long_share)
+    for eps in (1e-9, 0.05, 0.5):
+        assert _fast._separated(A, B, fat, nxt, first, eps) == _separated_brute(A, B, fat, nxt, eps)
+
+
+@pytest.mark.parametrize("pieces_per_side", [5, 50, 500])
+def test_separated_finds_a_far_side_of_a_thin_ring(pieces_per_side):
+    # A 100 × 0.01 rectangle cut into many pieces: the two long sides are 0.01 apart and far apart along
+    # the ring.
+    x = np.linspace(0, 100, pieces_per_side + 1)
+    pts = np.concatenate([np.column_stack([x, np.zeros_like(x)]),
+                          np.column_stack([x[::-1], np.full_like(x, 0.01)])])
+    m = len(pts)
+    A, B = pts, np.roll(pts, -1, axis=0)
+    fat, nxt, first = np.zeros(m), (np.arange(m) + 1) % m, np.zeros(m, int)
+    assert _fast._separated(A, B, fat, nxt, first, 0.0099)
+    assert not _fast._separated(A, B, fat, nxt, first, 0.0101)
+    assert _separated_brute(A, B, fat, nxt, 0.0101) is False

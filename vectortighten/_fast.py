@@ -208,8 +208,8 @@ def _offset_certified(D: _Rings, S, side: int) -> bool:
     k = np.flatnonzero(D.side != side)        # vertices with an arc, in the order of `_Rings.arcs`
     arc_a = centres + D.r * np.column_stack([np.cos(start), np.sin(start)])
     arc_b = centres + D.r * np.column_stack([np.cos(start + sweep), np.sin(start + sweep)])
-    A, B, fat, nxt = _chain(D, k, arc_a, arc_b, D.r * (1 - np.cos(0.5 * sweep)), pieces[:, 0], pieces[:, 1])
-    if not _separated(A, B, fat, nxt, _CONTACT * D.r):
+    chain = _chain(D, k, arc_a, arc_b, D.r * (1 - np.cos(0.5 * sweep)), pieces[:, 0], pieces[:, 1])
+    if not _separated(*chain, _CONTACT * D.r):
         return False
     # One point of each ring's curve, the start of its first straight piece, decides the sign of f there.
     p0 = pieces[[sl.start for sl in D.slices], 0]
@@ -234,14 +234,14 @@ def _rounded_certified(D: _Rings) -> bool:
     arc_a = D.v - t[:, None] * D.u[D.prev]
     arc_b = D.v + t[:, None] * D.u
     fat = D.r * (1 - np.cos(0.5 * D.theta))
-    A, B, fat, nxt = _chain(D, np.arange(len(D.v)), arc_a, arc_b, fat, D.v, D.v[D.next])
-    return _separated(A, B, fat, nxt, _CONTACT * D.r)
+    return _separated(*_chain(D, np.arange(len(D.v)), arc_a, arc_b, fat, D.v, D.v[D.next]), _CONTACT * D.r)
 
 
 def _chain(D: _Rings, k: np.ndarray, arc_a, arc_b, arc_fat, seg_a, seg_b):
     """One closed chain of pieces per ring: at vertex i the arc (if i is in ``k``, sorted) then the segment
     on edge i. Returns chord ends ``A``, ``B``, how far each piece may stray from its chord (``fat``, the
-    sagitta of an arc; > 0 marks the arcs) and the index of the next piece of the same ring."""
+    sagitta of an arc; > 0 marks the arcs), the index of the next piece of the same ring and of the first
+    piece of each piece's ring."""
     nv = len(D.v)
     has_arc = np.zeros(nv, bool)
     has_arc[k] = True
@@ -252,40 +252,63 @@ def _chain(D: _Rings, k: np.ndarray, arc_a, arc_b, arc_fat, seg_a, seg_b):
     A[seg_at], B[seg_at] = seg_a, seg_b
     A[seg_at[k] - 1], B[seg_at[k] - 1], fat[seg_at[k] - 1] = arc_a, arc_b, np.maximum(arc_fat, 1e-300)
     nxt = np.arange(1, m + 1)
-    for sl in D.slices:                       # the last piece of a ring is followed by its first
-        first = seg_at[sl.start] - has_arc[sl.start]
-        nxt[seg_at[sl.stop - 1]] = first
-    return A, B, fat, nxt
+    starts = np.array([seg_at[sl.start] - has_arc[sl.start] for sl in D.slices])
+    nxt[np.append(starts[1:], m) - 1] = starts        # the last piece of a ring is followed by its first
+    first = np.repeat(starts, np.diff(np.append(starts, m)))
+    return A, B, fat, nxt, first
 
 
-def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, eps: float) -> bool:
+def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, first: np.ndarray,
+               eps: float) -> bool:
     """Whether every two pieces that are not consecutive are at least ``eps`` apart.
 
     Piece i lies within ``fat[i]`` of the segment A[i]→B[i] (``fat > 0`` marks an arc); the distance
     between two pieces is bounded below by that of their segments minus both ``fat``. The two segments on
     either side of an arc are exempt too: they are tangent to its circle at its ends and run away from each
-    other (its sweep is below π), so they are the arc's chord apart, however short it is. Candidates come
-    from a k-d tree over the midpoints (pieces up to a few times the typical length) and an STRtree (the few
-    longer ones).
+    other (its sweep is below π), so they are the arc's chord apart, however short it is.
+
+    Candidates: pieces two and three apart along a ring, by index; all others through a k-d tree over
+    pairs of consecutive pieces (half as many points as pieces, and no neighbours to wade through: two
+    pairs that are not consecutive hold no pieces fewer than four apart), and an STRtree for the few
+    pieces much longer than the rest.
     """
+    m = len(A)
     mid = 0.5 * (A + B)
     rho = 0.5 * np.hypot(*(B - A).T) + fat
     # Balls as small as the pieces allow: all of them when their lengths are alike.
     h = max(min(float(rho.max()), 2.0 * float(np.percentile(rho, 95))), eps)
     short = rho <= h
-    idx = np.flatnonzero(short)
-    pairs = _tree(mid[idx]).query_pairs(2.0 * h + eps, output_type="ndarray")
-    if len(idx) < len(A):
-        pairs = idx[pairs]
-    # Most pairs are neighbours along a ring: i < j here, so j − i ≤ 1 settles them before anything else.
-    pairs = pairs[pairs[:, 1] - pairs[:, 0] >= 2]
-    if not short.all():
-        long_ = np.flatnonzero(~short)
+    i2 = nxt[nxt]
+    pairs = [np.column_stack([np.arange(m), i2]), np.column_stack([np.arange(m), nxt[i2]])]
+    # Pairs of pieces (0-1, 2-3, … of each ring; the last may be single), bounded by a disk each.
+    pos = np.arange(m) - first
+    head = np.flatnonzero(pos % 2 == 0)
+    mate = np.where((head + 1 < m) & (first[np.minimum(head + 1, m - 1)] == first[head]), head + 1, head)
+    ok = short[head] & short[mate]
+    c = 0.5 * (mid[head] + mid[mate])
+    rad = np.maximum(np.hypot(*(mid[head] - c).T) + rho[head], np.hypot(*(mid[mate] - c).T) + rho[mate])
+    g = np.flatnonzero(ok)
+    H = float(rad[g].max()) if len(g) else 0.0
+    gp = np.zeros((0, 2), np.int64)
+    if len(g) > 1:
+        gp = g[_tree(c[g]).query_pairs(2.0 * H + eps, output_type="ndarray")]
+    a, b = gp.T
+    # Consecutive pairs of pieces are covered above (their pieces are at most three apart).
+    near = np.hypot(*(c[a] - c[b]).T) <= rad[a] + rad[b] + eps
+    a, b = a[near], b[near]
+    cons = (nxt[mate[a]] == head[b]) | (nxt[mate[b]] == head[a])
+    a, b = a[~cons], b[~cons]
+    for x in (head, mate):
+        for y in (head, mate):
+            pairs.append(np.column_stack([x[a], y[b]]))
+    # Pieces left out of the tree (long ones, or paired with one): against every piece.
+    loose = np.union1d(head[~ok], mate[~ok])
+    if len(loose):
         chords = shapely.linestrings(np.stack([A, B], axis=1))
-        i, j = shapely.STRtree(chords).query(chords[long_], predicate="dwithin",
+        i, j = shapely.STRtree(chords).query(chords[loose], predicate="dwithin",
                                              distance=2.0 * float(fat.max()) + eps)
-        pairs = np.concatenate([pairs, np.column_stack([long_[i], j])])
-    i, j = pairs.T
+        pairs.append(np.column_stack([loose[i], j]))
+    i, j = np.concatenate(pairs).T
     keep = np.hypot(*(mid[i] - mid[j]).T) <= rho[i] + rho[j] + eps
     i, j = i[keep], j[keep]
     across = np.where(fat[nxt] > 0, nxt[nxt], nxt)        # the piece after the next arc, if any

@@ -482,8 +482,10 @@ class Loop:
 
     def _signed_area(self) -> float:
         d = self._data
-        start, _ = self._ends()
-        o = start[0]
+        # Origin: the first piece's start (the same arithmetic as `_ends`, on that piece alone).
+        first = Loop.__new__(Loop)
+        first._arc, first._data = self._arc[:1], d[:1]
+        o = first._ends()[0][0]
         x0, y0, x1, y1 = d[:, 0] - o[0], d[:, 1] - o[1], d[:, 2] - o[0], d[:, 3] - o[1]
         seg = 0.5 * (x0 * y1 - x1 * y0)
         r, a0, sw = d[:, 2], d[:, 3], d[:, 4]
