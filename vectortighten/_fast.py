@@ -268,39 +268,42 @@ def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, f
     either side of an arc are exempt too: they are tangent to its circle at its ends and run away from each
     other (its sweep is below π), so they are the arc's chord apart, however short it is.
 
-    Candidates: pieces two and three apart along a ring, by index; all others through a k-d tree over
-    pairs of consecutive pieces (half as many points as pieces, and no neighbours to wade through: two
-    pairs that are not consecutive hold no pieces fewer than four apart), and an STRtree for the few
-    pieces much longer than the rest.
+    Candidates: consecutive pieces are paired (0-1, 2-3, … of each ring) and each pair bounded by a disk in
+    a k-d tree (half as many points as pieces, and no neighbours to wade through). Two consecutive pairs
+    hold, besides neighbours, only pieces two apart and the head of one with the mate of the next, three
+    apart: those are paired by index. The few pieces much longer than the rest go to an STRtree.
     """
     m = len(A)
     mid = 0.5 * (A + B)
-    rho = 0.5 * np.hypot(*(B - A).T) + fat
+    mx, my = mid[:, 0].copy(), mid[:, 1].copy()       # (columns: the gathers below run several × faster)
+    rho = 0.5 * np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1]) + fat
     # Balls as small as the pieces allow: all of them when their lengths are alike.
     h = max(min(float(rho.max()), 2.0 * float(np.percentile(rho, 95))), eps)
     short = rho <= h
-    # Pieces two apart (unless an arc lies between them) and three apart, by index; the many whose disks
-    # are apart are settled here, on the cheap.
-    i2 = nxt[nxt]
-    i = np.concatenate([np.flatnonzero(fat[nxt] == 0), np.arange(m)])
-    j = np.concatenate([i2[fat[nxt] == 0], nxt[i2]])
-    near = np.hypot(*(mid[i] - mid[j]).T) <= rho[i] + rho[j] + eps
-    pairs = [np.column_stack([i[near], j[near]])]
     # Pairs of pieces (0-1, 2-3, … of each ring; the last may be single), bounded by a disk each.
     pos = np.arange(m) - first
     head = np.flatnonzero(pos % 2 == 0)
     mate = np.where((head + 1 < m) & (first[np.minimum(head + 1, m - 1)] == first[head]), head + 1, head)
+    # Pieces two apart (unless an arc lies between them) and, from the head of a pair, three apart: all
+    # that two consecutive pairs hold besides neighbours; the many whose disks are apart settled here.
+    i2 = nxt[nxt]
+    two = np.flatnonzero(fat[nxt] == 0)
+    i = np.concatenate([two, head])
+    j = np.concatenate([i2[two], nxt[i2[head]]])
+    near = _disks_meet(mx, my, rho, i, j, eps)
+    pairs = [np.column_stack([i[near], j[near]])]
     ok = short[head] & short[mate]
-    c = 0.5 * (mid[head] + mid[mate])
-    rad = np.maximum(np.hypot(*(mid[head] - c).T) + rho[head], np.hypot(*(mid[mate] - c).T) + rho[mate])
+    cx, cy = 0.5 * (mx[head] + mx[mate]), 0.5 * (my[head] + my[mate])
+    rad = np.maximum(np.hypot(mx[head] - cx, my[head] - cy) + rho[head],
+                     np.hypot(mx[mate] - cx, my[mate] - cy) + rho[mate])
     g = np.flatnonzero(ok)
     H = float(rad[g].max()) if len(g) else 0.0
     gp = np.zeros((0, 2), np.int64)
     if len(g) > 1:
-        gp = g[_tree(c[g]).query_pairs(2.0 * H + eps, output_type="ndarray")]
+        gp = g[_tree(np.column_stack([cx[g], cy[g]])).query_pairs(2.0 * H + eps, output_type="ndarray")]
     a, b = gp.T
     # Consecutive pairs of pieces are covered above (their pieces are at most three apart).
-    near = np.hypot(*(c[a] - c[b]).T) <= rad[a] + rad[b] + eps
+    near = _disks_meet(cx, cy, rad, a, b, eps)
     a, b = a[near], b[near]
     cons = (nxt[mate[a]] == head[b]) | (nxt[mate[b]] == head[a])
     a, b = a[~cons], b[~cons]
@@ -315,7 +318,7 @@ def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, f
                                              distance=2.0 * float(fat.max()) + eps)
         pairs.append(np.column_stack([loose[i], j]))
     i, j = np.concatenate(pairs).T
-    keep = np.hypot(*(mid[i] - mid[j]).T) <= rho[i] + rho[j] + eps
+    keep = _disks_meet(mx, my, rho, i, j, eps)
     i, j = i[keep], j[keep]
     across = np.where(fat[nxt] > 0, nxt[nxt], nxt)        # the piece after the next arc, if any
     keep = (i != j) & (nxt[i] != j) & (nxt[j] != i) & (across[i] != j) & (across[j] != i)
@@ -324,6 +327,14 @@ def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, f
         return True
     gap = _segment_distances(A[i], B[i], A[j], B[j]) - fat[i] - fat[j]
     return bool((gap >= eps).all())
+
+
+def _disks_meet(x: np.ndarray, y: np.ndarray, rad: np.ndarray, i: np.ndarray, j: np.ndarray,
+                eps: float) -> np.ndarray:
+    """Whether the disks (x, y, rad) i and j come within ``eps`` of each other, pair by pair."""
+    dx, dy = x[i] - x[j], y[i] - y[j]
+    reach = rad[i] + rad[j] + eps
+    return dx * dx + dy * dy <= reach * reach
 
 
 def _segment_distances(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
