@@ -14,11 +14,13 @@ the loop is homotopic to the ring in the mortar.
 
 How it is checked: from the edges of S alone, never from GEOS's buffers (which simplify dense input by up
 to r/100, more than any slack could allow). Disk centres and straight pieces must keep distance r from
-every edge (`_closer_than`: a k-d tree over the vertices, exact distances for the few candidates); points
-along each arc must keep distance r from the shrink's boundary (convex vertices) or the grow's (reflex
-ones), which the offset edges and the arcs around the other kind of vertex contain (`_arcs_clear`). The
-arcs are sampled every π/16: a violation between two samples and shallower than the sampling's sagitta
-can go unseen.
+every edge; points along each arc must keep distance r from the shrink's boundary (convex vertices) or the
+grow's (reflex ones), which the offset edges and the arcs around the other kind of vertex contain. First
+by certificates (`_offset_certified`, `_rounded_certified`): when the offset curves, and the rings with their
+corners rounded, do not touch themselves, all of that holds, and checking it costs a search among
+neighbouring pieces only. Where a certificate fails, by the exact distance tests: `_closer_than` (a k-d
+tree over the vertices, exact distances for the few candidates) and `_arcs_clear`, whose arcs are sampled
+every π/16 (a violation between two samples and shallower than the sampling's sagitta can go unseen).
 """
 
 from __future__ import annotations
@@ -132,15 +134,207 @@ def fast_disk_loops(S, r: float, q: int, init: str):
         return None                                     # two disks do not fit on one edge
     length = np.maximum(D.length, 0.0)
     shapely.prepare(S)
-    if not _centers_valid(D, S):
-        return None
-    if not _arcs_clear(D):
-        return None
-    if init != "input" and not _reaches_edges(D, S, 1):
-        return None
-    if init == "mason" and not _reaches_edges(D, S, -1):
-        return None
+    certified = {side: _offset_certified(D, S, side) for side in (1, -1)}
+    # A certified side's offset curves lie wholly in S (+1) or outside it (−1), and its centres with them.
+    open_ = np.flatnonzero([not certified[s] for s in D.side.astype(int)]) if not all(certified.values()) \
+        else np.zeros(0, np.int64)
+    if len(open_):
+        inside = shapely.contains_xy(S, D.c[open_, 0], D.c[open_, 1])
+        if ((D.side[open_] > 0) != inside).any():
+            return None                                 # a disk on the wrong side of S
+    limit = r * (1 - _EXACT)
+    rounded = None
+    for side in (1, -1):
+        # The straight pieces must lie on the core's boundary for init="core" (side +1) and, with the
+        # anticore's too, for "mason".
+        edges = init != "input" if side > 0 else init == "mason"
+        if certified[side]:
+            # Every disk centre of this side is r from S, and so is every straight piece moved by r.
+            if rounded is None:
+                rounded = _rounded_certified(D)
+            if not rounded and not _arcs_clear(D, side):
+                return None
+            continue
+        # Not certified (pieces that touch or nearly do, very short edges): the exact distance tests.
+        mine = D.side == side
+        if mine.any() and _closer_than(D, D.c[mine], D.c[mine], limit):
+            return None
+        if not _arcs_clear(D, side):
+            return None
+        if edges and not _reaches_edges(D, S, side):
+            return None
     return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl]) for sl in D.slices]
+
+
+# -- certificates: the offset curves do not touch themselves ---------------------------------------------
+# Why a curve that does not touch itself settles the distance tests (exact arithmetic; `_CONTACT` covers the
+# rounding). Side +1; side −1 is the same outside S.
+#
+# C, the raw offset curve of a ring, is the ring's edges moved by r into S and cut at the disks' centres
+# (`_Rings.offsets`) joined by the arcs of radius r around the reflex vertices (`_Rings.arcs`); consecutive
+# pieces meet at their common end only (at a centre the turn is below π, an arc is tangent to its
+# segments), and every point of C is at distance exactly r from the edge or vertex it comes from. Let
+# f = dist(·, ∂S) − r on C, so f ≤ 0. Where f < 0 next to a point q of C with f(q) = 0, some other edge
+# (or reflex vertex) is at distance exactly r from q, and its nearest point y is where the disk of radius r
+# around q touches ∂S, from inside S: y is inside the edge, in its part that C keeps (a point of the rest,
+# within r·tan(θ/2) of a convex end, has the neighbouring edge nearer than r), or a reflex vertex whose
+# normal cone holds q − y. Either way q lies on the piece of C that comes from y too: two pieces of C that
+# are not consecutive meet at q. So if no two such pieces come within `_CONTACT` of each other, f is 0 all
+# along each closed curve or negative all along it, and one point of each, tested exactly, tells which.
+# Then every disk centre of that side is at distance r from ∂S, and so is every straight piece moved by r.
+#
+# Given that, C (all rings) is the boundary of the shrink K, and the core is the set of points nearer than
+# r to K. L, the ring with its convex corners replaced by their arcs, is C moved back by r; let
+# g = dist(·, K) − r on L, so g ≤ 0, and g = 0 on ∂S (each disk around a point of K lies in S), which L
+# meets at every tangent point. A point q of an arc where g becomes negative next to it is at distance r
+# from a point z of K other than the arc's centre (K near that centre is the wedge of its two pieces, which
+# is no nearer), so q also lies on the piece of L that comes from z: again two pieces of L that are not
+# consecutive meet. If none come within `_CONTACT`, no arc enters the core.
+#
+# The checks look at the pieces near each piece only (`_separated`: balls a few pieces wide), so they cost
+# about as much as building a k-d tree, however closely a ring runs at distance r from another part of S;
+# the exact tests' balls of radius r graze the ring at every vertex (~45 s for a million vertices). When a
+# check fails (pieces that touch or nearly do, very short pieces) the caller runs the exact distance tests
+# instead, which decide.
+
+_CONTACT = 1e-7       # pieces closer than this (× r) count as touching: 100× the exact tests' slack
+
+
+def _offset_certified(D: _Rings, S, side: int) -> bool:
+    """Whether the raw offset curves of this side provably keep distance r from every edge of S."""
+    if (D.length <= _CONTACT * D.r).any():
+        return False                          # a piece too short for its direction to be sure
+    pieces = D.offsets(side)
+    centres, start, sweep = D.arcs(side)
+    k = np.flatnonzero(D.side != side)        # vertices with an arc, in the order of `_Rings.arcs`
+    arc_a = centres + D.r * np.column_stack([np.cos(start), np.sin(start)])
+    arc_b = centres + D.r * np.column_stack([np.cos(start + sweep), np.sin(start + sweep)])
+    chain = _chain(D, k, arc_a, arc_b, D.r * (1 - np.cos(0.5 * sweep)), pieces[:, 0], pieces[:, 1])
+    if not _separated(*chain, _CONTACT * D.r):
+        return False
+    # One point of each ring's curve, the start of its first straight piece, decides the sign of f there.
+    p0 = pieces[[sl.start for sl in D.slices], 0]
+    if (shapely.contains_xy(S, p0[:, 0], p0[:, 1]) != (side > 0)).any():
+        return False
+    limit = D.r * (1 - _EXACT)
+    if len(p0) * len(D.v) > 4_000_000:
+        return not _closer_than(D, p0, p0, limit)
+    # Few rings: every edge against every point, without building the k-d tree.
+    a, b = D.v, D.v[D.next]
+    return all((_point_segment_distances(x[None, :], a, b) >= limit).all() for x in p0)
+
+
+def _rounded_certified(D: _Rings) -> bool:
+    """Whether no arc of a certified side (`_offset_certified`) can enter the core (+1) or the anticore (−1).
+
+    One chain serves both sides: every corner's arc, each followed by its whole outgoing edge. The rings
+    with only the convex (or only the reflex) corners rounded are made of these arcs and parts of these
+    edges, with the same pieces next to each other, so if this chain does not touch itself neither do they.
+    """
+    t = D.t
+    arc_a = D.v - t[:, None] * D.u[D.prev]
+    arc_b = D.v + t[:, None] * D.u
+    fat = D.r * (1 - np.cos(0.5 * D.theta))
+    return _separated(*_chain(D, np.arange(len(D.v)), arc_a, arc_b, fat, D.v, D.v[D.next]), _CONTACT * D.r)
+
+
+def _chain(D: _Rings, k: np.ndarray, arc_a, arc_b, arc_fat, seg_a, seg_b):
+    """One closed chain of pieces per ring: at vertex i the arc (if i is in ``k``, sorted) then the segment
+    on edge i. Returns chord ends ``A``, ``B``, how far each piece may stray from its chord (``fat``, the
+    sagitta of an arc; > 0 marks the arcs), the index of the next piece of the same ring and of the first
+    piece of each piece's ring."""
+    nv = len(D.v)
+    has_arc = np.zeros(nv, bool)
+    has_arc[k] = True
+    count = 1 + has_arc
+    seg_at = np.cumsum(count) - 1             # index of edge i's segment; its arc, if any, just before
+    m = int(count.sum())
+    A, B, fat = np.empty((m, 2)), np.empty((m, 2)), np.zeros(m)
+    A[seg_at], B[seg_at] = seg_a, seg_b
+    A[seg_at[k] - 1], B[seg_at[k] - 1], fat[seg_at[k] - 1] = arc_a, arc_b, np.maximum(arc_fat, 1e-300)
+    nxt = np.arange(1, m + 1)
+    starts = np.array([seg_at[sl.start] - has_arc[sl.start] for sl in D.slices])
+    nxt[np.append(starts[1:], m) - 1] = starts        # the last piece of a ring is followed by its first
+    first = np.repeat(starts, np.diff(np.append(starts, m)))
+    return A, B, fat, nxt, first
+
+
+def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, first: np.ndarray,
+               eps: float) -> bool:
+    """Whether every two pieces that are not consecutive are at least ``eps`` apart.
+
+    Piece i lies within ``fat[i]`` of the segment A[i]→B[i] (``fat > 0`` marks an arc); the distance
+    between two pieces is bounded below by that of their segments minus both ``fat``. The two segments on
+    either side of an arc are exempt too: they are tangent to its circle at its ends and run away from each
+    other (its sweep is below π), so they are the arc's chord apart, however short it is.
+
+    Candidates: consecutive pieces are paired (0-1, 2-3, … of each ring) and each pair bounded by a disk in
+    a k-d tree (half as many points as pieces, and no neighbours to wade through). Two consecutive pairs
+    hold, besides neighbours, only pieces two apart and the head of one with the mate of the next, three
+    apart: those are paired by index. The few pieces much longer than the rest go to an STRtree.
+    """
+    m = len(A)
+    mid = 0.5 * (A + B)
+    mx, my = mid[:, 0].copy(), mid[:, 1].copy()       # (columns: the gathers below run several × faster)
+    rho = 0.5 * np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1]) + fat
+    # Balls as small as the pieces allow: all of them when their lengths are alike.
+    h = max(min(float(rho.max()), 2.0 * float(np.percentile(rho, 95))), eps)
+    short = rho <= h
+    # Pairs of pieces (0-1, 2-3, … of each ring; the last may be single), bounded by a disk each.
+    pos = np.arange(m) - first
+    head = np.flatnonzero(pos % 2 == 0)
+    mate = np.where((head + 1 < m) & (first[np.minimum(head + 1, m - 1)] == first[head]), head + 1, head)
+    # Pieces two apart (unless an arc lies between them) and, from the head of a pair, three apart: all
+    # that two consecutive pairs hold besides neighbours; the many whose disks are apart settled here.
+    i2 = nxt[nxt]
+    two = np.flatnonzero(fat[nxt] == 0)
+    i = np.concatenate([two, head])
+    j = np.concatenate([i2[two], nxt[i2[head]]])
+    near = _disks_meet(mx, my, rho, i, j, eps)
+    pairs = [np.column_stack([i[near], j[near]])]
+    ok = short[head] & short[mate]
+    cx, cy = 0.5 * (mx[head] + mx[mate]), 0.5 * (my[head] + my[mate])
+    rad = np.maximum(np.hypot(mx[head] - cx, my[head] - cy) + rho[head],
+                     np.hypot(mx[mate] - cx, my[mate] - cy) + rho[mate])
+    g = np.flatnonzero(ok)
+    H = float(rad[g].max()) if len(g) else 0.0
+    gp = np.zeros((0, 2), np.int64)
+    if len(g) > 1:
+        gp = g[_tree(np.column_stack([cx[g], cy[g]])).query_pairs(2.0 * H + eps, output_type="ndarray")]
+    a, b = gp.T
+    # Consecutive pairs of pieces are covered above (their pieces are at most three apart).
+    near = _disks_meet(cx, cy, rad, a, b, eps)
+    a, b = a[near], b[near]
+    cons = (nxt[mate[a]] == head[b]) | (nxt[mate[b]] == head[a])
+    a, b = a[~cons], b[~cons]
+    for x in (head, mate):
+        for y in (head, mate):
+            pairs.append(np.column_stack([x[a], y[b]]))
+    # Pieces left out of the tree (long ones, or paired with one): against every piece.
+    loose = np.union1d(head[~ok], mate[~ok])
+    if len(loose):
+        chords = shapely.linestrings(np.stack([A, B], axis=1))
+        i, j = shapely.STRtree(chords).query(chords[loose], predicate="dwithin",
+                                             distance=2.0 * float(fat.max()) + eps)
+        pairs.append(np.column_stack([loose[i], j]))
+    i, j = np.concatenate(pairs).T
+    keep = _disks_meet(mx, my, rho, i, j, eps)
+    i, j = i[keep], j[keep]
+    across = np.where(fat[nxt] > 0, nxt[nxt], nxt)        # the piece after the next arc, if any
+    keep = (i != j) & (nxt[i] != j) & (nxt[j] != i) & (across[i] != j) & (across[j] != i)
+    i, j = i[keep], j[keep]
+    if len(i) == 0:
+        return True
+    gap = _segment_distances(A[i], B[i], A[j], B[j]) - fat[i] - fat[j]
+    return bool((gap >= eps).all())
+
+
+def _disks_meet(x: np.ndarray, y: np.ndarray, rad: np.ndarray, i: np.ndarray, j: np.ndarray,
+                eps: float) -> np.ndarray:
+    """Whether the disks (x, y, rad) i and j come within ``eps`` of each other, pair by pair."""
+    dx, dy = x[i] - x[j], y[i] - y[j]
+    reach = rad[i] + rad[j] + eps
+    return dx * dx + dy * dy <= reach * reach
 
 
 def _segment_distances(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -251,24 +445,9 @@ def _near_short_edges(D: _Rings, tree: cKDTree, p: np.ndarray, q: np.ndarray, ha
     return False
 
 
-def _centers_valid(D: _Rings, S) -> bool:
-    """Every disk lies in S at distance ≥ r from its boundary (convex vertices) or outside, at distance
-    ≥ r from S (reflex vertices).
-
-    Decided exactly (up to rounding, `_EXACT`) from the edges of S, not from the buffered shrink and grow:
-    GEOS simplifies a buffer's input by up to r/100, which on dense rings moves them further than any
-    slack could allow.
-    """
-    r = D.r
-    inner = D.side > 0
-    inside = shapely.contains_xy(S, D.c[:, 0], D.c[:, 1])
-    if (inner != inside).any():
-        return False
-    return not _closer_than(D, D.c, D.c, r * (1 - _EXACT))
-
-
-def _arcs_clear(D: _Rings) -> bool:
-    """No arc enters the core (convex vertices) or the anticore (reflex vertices) elsewhere.
+def _arcs_clear(D: _Rings, side: int) -> bool:
+    """No arc of this side enters the core (side +1, convex vertices) or the anticore (side −1, reflex
+    vertices) elsewhere.
 
     Decided from the edges of S, not from GEOS's opening and closing (which simplify dense input by up to
     r/100). A point x of a convex vertex's arc lies within r of that vertex, so not in the shrink; it is
@@ -281,27 +460,24 @@ def _arcs_clear(D: _Rings) -> bool:
     at points every π/16 at most (slightly outside their own disk, which the pieces at its centre touch).
     """
     r = D.r
-    m = np.maximum(2, np.ceil(np.abs(D.theta) / (math.pi / 16)).astype(np.int64))
-    owner = np.repeat(np.arange(len(D.v)), m - 1)
+    mine = np.flatnonzero(D.side == side)
+    if len(mine) == 0:
+        return True
+    m = np.maximum(2, np.ceil(np.abs(D.theta[mine]) / (math.pi / 16)).astype(np.int64))
+    owner = np.repeat(mine, m - 1)
     first = np.repeat(np.cumsum(m - 1) - (m - 1), m - 1)
     frac = (np.arange(len(owner)) - first + 1) / np.repeat(m, m - 1)
-    a0 = D.phi[D.prev] - D.side * (math.pi / 2)
-    th = a0[owner] + D.theta[owner] * frac
+    a0 = D.phi[D.prev[owner]] - side * (math.pi / 2)
+    th = a0 + D.theta[owner] * frac
     # Just outside its own disk (by rounding-proof 1e-8·r): the pieces that meet at the disk's centre are
     # then no nearer than r, and only another part of the shrink's (grow's) boundary can come nearer.
-    probes = D.c[owner] + (r * (1 + 1e-8)) * np.column_stack([np.cos(th), np.sin(th)])
+    x = D.c[owner] + (r * (1 + 1e-8)) * np.column_stack([np.cos(th), np.sin(th)])
     limit = r * (1 - _EXACT)
-    for side in (1, -1):
-        x = probes[D.side[owner] == side]
-        if len(x) == 0:
-            continue
-        pieces = D.offsets(side)
-        if _points_near_segments(x, pieces[:, 0], pieces[:, 1], limit):
-            return False
-        centres, start, sweep = D.arcs(side)
-        if len(centres) and _points_near_arcs(x, centres, start, sweep, r, limit):
-            return False
-    return True
+    pieces = D.offsets(side)
+    if _points_near_segments(x, pieces[:, 0], pieces[:, 1], limit):
+        return False
+    centres, start, sweep = D.arcs(side)
+    return not (len(centres) and _points_near_arcs(x, centres, start, sweep, r, limit))
 
 
 def _point_segment_distances(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -386,6 +562,6 @@ def _reaches_edges(D: _Rings, S, side: int) -> bool:
     mid = 0.5 * (a + b)
     if (shapely.contains_xy(S, mid[:, 0], mid[:, 1]) != (side > 0)).any():
         return False
-    # Ends at a disk's centre were found r from every edge by `_centers_valid`.
+    # Ends at a disk's centre of this side were found r from every edge before.
     known = (D.side[keep] == side, D.side[D.next[keep]] == side)
     return not _closer_than(D, a, b, r * (1 - _EXACT), known)

@@ -311,7 +311,8 @@ class Loop:
     True
     """
 
-    __slots__ = ("_arc", "_data", "_pieces")
+    # A loop never changes after construction, so its exact (compensated) sums are computed once.
+    __slots__ = ("_arc", "_data", "_pieces", "_area", "_length")
 
     def __init__(self, pieces: Iterable[Piece], atol: float | None = None):
         pieces = tuple(pieces)
@@ -321,6 +322,7 @@ class Loop:
         data = np.array([(p.center[0], p.center[1], p.radius, p.start_angle, p.sweep) if isinstance(p, Arc)
                          else (p.start[0], p.start[1], p.end[0], p.end[1], 0.0) for p in pieces], dtype=float)
         self._arc, self._data, self._pieces = arc, data, pieces
+        self._area = self._length = None
         self._check_closed(atol)
 
     @classmethod
@@ -332,7 +334,7 @@ class Loop:
         self = object.__new__(cls)
         self._arc = np.asarray(arc, dtype=bool)
         self._data = np.asarray(data, dtype=float)
-        self._pieces = None
+        self._pieces = self._area = self._length = None
         self._check_closed(atol)
         return self
 
@@ -465,16 +467,25 @@ class Loop:
     @property
     def length(self) -> float:
         """Exact length."""
-        d = self._data
-        seg = np.hypot(d[:, 2] - d[:, 0], d[:, 3] - d[:, 1])
-        return math.fsum(np.where(self._arc, d[:, 2] * np.abs(d[:, 4]), seg).tolist())
+        if self._length is None:
+            d = self._data
+            seg = np.hypot(d[:, 2] - d[:, 0], d[:, 3] - d[:, 1])
+            self._length = math.fsum(np.where(self._arc, d[:, 2] * np.abs(d[:, 4]), seg).tolist())
+        return self._length
 
     @property
     def area(self) -> float:
         """Exact signed area enclosed (positive for a counter-clockwise loop)."""
+        if self._area is None:
+            self._area = self._signed_area()
+        return self._area
+
+    def _signed_area(self) -> float:
         d = self._data
-        start, _ = self._ends()
-        o = start[0]
+        # Origin: the first piece's start (the same arithmetic as `_ends`, on that piece alone).
+        first = Loop.__new__(Loop)
+        first._arc, first._data = self._arc[:1], d[:1]
+        o = first._ends()[0][0]
         x0, y0, x1, y1 = d[:, 0] - o[0], d[:, 1] - o[1], d[:, 2] - o[0], d[:, 3] - o[1]
         seg = 0.5 * (x0 * y1 - x1 * y0)
         r, a0, sw = d[:, 2], d[:, 3], d[:, 4]

@@ -167,13 +167,24 @@ def _nudge(geom: Polygonal, S: Polygonal, into: bool) -> Polygonal:
     that ``S.covers(geom)``; with ``into=False`` those of ``geom`` in S are pushed out, so that
     ``geom.covers(S)``.
     """
-    if geom.is_empty or S.is_empty or (S.covers(geom) if into else geom.covers(S)):
+    if geom.is_empty or S.is_empty:
         return geom                                   # (nothing covers or is covered by the empty set)
     S = _orient(S)
+    shapely.prepare(S)                                # a copy of our own; covers is asked several times
+
+    def holds(g) -> bool:
+        if into:
+            return S.covers(g)
+        shapely.prepare(g)                            # cheaper than the unprepared relate, even counted in
+        return g.covers(S)
+
+    covered = holds(geom)
+    if covered:
+        return geom
     a, b = _edges(S)
     d = b - a
     normal = np.column_stack([-d[:, 1], d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
-    tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
+    tree = None                                       # built only if a vertex has to move
     coords = shapely.get_coordinates(geom)
     keys = np.sort(a[:, 0] + 1j * a[:, 1])
     k = coords[:, 0] + 1j * coords[:, 1]
@@ -187,15 +198,19 @@ def _nudge(geom: Polygonal, S: Polygonal, into: bool) -> Polygonal:
             bad = shapely.intersects_xy(S, x, y) & ~own
         if not bad.any():
             break
+        if tree is None:
+            tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
         nearest = tree.query_nearest(shapely.points(coords[bad]), all_matches=False)[1]
         coords[bad] += (eps if into else -eps) * normal[nearest]
         eps *= 4.0
         geom = shapely.set_coordinates(shapely.from_wkb(shapely.to_wkb(geom)), coords.copy())
-        if S.covers(geom) if into else geom.covers(S):
+        covered = holds(geom)
+        if covered:
             break
     if not geom.is_valid:
         geom = _polygonal(shapely.make_valid(geom))
-    if not (S.covers(geom) if into else geom.covers(S)):
+        covered = holds(geom)
+    if not covered:
         # The overlay merged a vertex of S onto another boundary (S nearly touching itself): take the
         # offending sliver out of (add it to) the result, a hair thickened.
         x0, y0, x1, y1 = S.bounds

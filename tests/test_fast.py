@@ -1,0 +1,221 @@
+"""The fast path's certificates (offset curves that do not touch themselves) never accept a shape that the
+exact distance tests reject, and the fast path's answers are the same either way."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from shapely.geometry import Polygon
+
+import vectortighten as vt
+from vectortighten import _fast
+from vectortighten.engine import _Frame
+
+from .strategies import box_unions, disk_unions, holed, stars
+
+
+def wavy(n, waves=12, amp=0.04, rad=10.0, center=(0.0, 0.0), hole=False):
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    rr = rad * (1 + amp * np.sin(waves * t))
+    ring = np.column_stack([center[0] + rr * np.cos(t), center[1] + rr * np.sin(t)])
+    return ring[::-1] if hole else ring
+
+
+def _rings(S, r):
+    S = vt._validation.check_shape(S)
+    frame = _Frame.of(S)
+    S = frame.to_local(S)
+    D = _fast._Rings(S, r / frame.scale)
+    shapely.prepare(S)
+    return S, D
+
+
+def _exact(D, S, side):
+    """The exact distance tests of one side: disk centres, arcs, straight pieces moved by r."""
+    mine = D.side == side
+    limit = D.r * (1 - _fast._EXACT)
+    centres = not (mine.any() and _fast._closer_than(D, D.c[mine], D.c[mine], limit))
+    return centres, _fast._arcs_clear(D, side), _fast._reaches_edges(D, S, side)
+
+
+def check_certificates_sound(S, r):
+    """A certified side passes every exact test of that side; returns which sides were certified."""
+    S, D = _rings(S, r)
+    if not D.ok or (np.abs(D.theta) > math.pi - 1e-6).any():
+        return []
+    if (D.length < -1e-12 * np.maximum(D.ell, D.r)).any():
+        return []
+    inside = shapely.contains_xy(S, D.c[:, 0], D.c[:, 1])
+    certified = []
+    for side in (1, -1):
+        if not _fast._offset_certified(D, S, side):
+            continue
+        mine = D.side == side
+        assert (inside[mine] == (side > 0)).all(), "certified, yet a disk centre is on the wrong side of S"
+        centres, arcs, edges = _exact(D, S, side)
+        assert centres, "certified, yet a disk centre is nearer than r to an edge"
+        assert edges, "certified, yet a straight piece moved by r leaves S or comes nearer than r to it"
+        if _fast._rounded_certified(D):
+            assert arcs, "certified, yet an arc enters the core or anticore"
+        certified.append(side)
+    return certified
+
+
+SETTINGS = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+@st.composite
+def blobs(draw):
+    """Densely sampled smooth blobs (random low harmonics of the radius), some with a blob-shaped hole:
+    the shapes the fast path takes, with necks and gaps of any width."""
+    def ring(n, rad, cx, cy, hole):
+        t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+        amps = draw(st.lists(st.floats(0.0, 0.08), min_size=4, max_size=4))
+        phases = draw(st.lists(st.floats(0.0, 2 * np.pi), min_size=4, max_size=4))
+        waves = enumerate(zip(amps, phases, strict=True))
+        rr = rad * (1 + sum(a * np.sin((k + 2) * t + p) for k, (a, p) in waves))
+        pts = np.column_stack([cx + rr * np.cos(t), cy + rr * np.sin(t)])
+        return pts[::-1] if hole else pts
+    outer = ring(draw(st.integers(200, 3000)), 10.0, 0.0, 0.0, False)
+    holes = []
+    if draw(st.booleans()):
+        rad = draw(st.floats(1.0, 4.0))
+        holes.append(ring(draw(st.integers(100, 1000)), rad, draw(st.floats(-5.0, 5.0)), 0.0, True))
+    return Polygon(outer, holes)
+
+
+@SETTINGS
+@given(st.one_of(stars(), box_unions(max_n=4), disk_unions(max_n=4), holed(), blobs(), blobs()),
+       st.floats(0.05, 2.0))
+def test_certificates_never_accept_what_the_exact_tests_reject(S, r):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", vt.RepairWarning)
+        check_certificates_sound(S, r)
+
+
+@pytest.mark.parametrize("gap", [0.5, 1e-3, 1e-7, 1e-10, 0.0, -1e-10, -1e-7, -1e-3])
+def test_necks_near_2r(gap):
+    # A disk with an off-centre hole, 2r + gap from its edge (a neck inside S), and two disks 2r + gap
+    # apart (outside S): below 2r the disks on one side of the neck come nearer than r to the other side,
+    # which no certificate may accept; near 2r the certificates give way to the exact tests.
+    r = 1.0
+    w = 2 * r + gap
+    hole = wavy(3000, amp=0.0, rad=4.0, center=(6 - w, 0), hole=True)
+    holed = Polygon(wavy(6000, amp=0.0, rad=10.0), [hole])
+    sides = check_certificates_sound(holed, r)
+    if gap < 0:
+        assert 1 not in sides
+    if gap == 0.5:
+        assert 1 in sides
+    apart = shapely.union_all([Polygon(wavy(4000, amp=0.0, rad=3.0, center=(-3 - w / 2, 0))),
+                               Polygon(wavy(4000, amp=0.0, rad=3.0, center=(3 + w / 2, 0)))])
+    sides = check_certificates_sound(apart, r)
+    if gap < 0:
+        assert -1 not in sides
+    if gap == 0.5:
+        assert sides == [1, -1]
+
+
+@pytest.mark.parametrize("width", [1.9, 1.999999, 2.0 - 1e-9, 2.0 + 1e-9, 2.1])
+def test_annulus_narrower_than_2r_is_never_certified(width):
+    # A ring of width < 2r: the inward offset of each circle lies wholly in the other's r-neighbourhood
+    # without crossing it, so only the exact test of one point per ring can reject it.
+    r = 1.0
+    outer, inner = wavy(3000, amp=0.0, rad=10.0), wavy(3000, amp=0.0, rad=10.0 - width, hole=True)
+    S = Polygon(outer, [inner])
+    _, D = _rings(S, r)
+    S_local, _ = _rings(S, r)
+    certified = _fast._offset_certified(D, S_local, 1)
+    if width < 2.0 - 1e-8:
+        assert not certified
+        assert vt.tighten(S, r)._cache["_path"] == "general" or vt.tighten(S, r).area == 0
+    check_certificates_sound(S, r)
+
+
+def test_hole_near_the_boundary_and_dense_rings():
+    r = 0.3
+    S = Polygon(wavy(20000), [wavy(5000, amp=0.02, rad=1.5, center=(7.5, 0), hole=True)])
+    assert check_certificates_sound(S, r) == [1, -1]
+    assert vt.tighten(S, r)._cache["_path"] == "fast"
+    # Moved to within 2r of the outer boundary: the core's offset curves cross, nothing is certified on
+    # that side, and the exact tests decide as before.
+    S2 = Polygon(wavy(20000), [wavy(5000, amp=0.0, rad=1.5, center=(8.0, 0), hole=True)])
+    assert 1 not in check_certificates_sound(S2, r)
+
+
+def test_fast_path_results_unchanged_by_the_certificates(monkeypatch):
+    S = Polygon(wavy(5000), [wavy(2000, amp=0.02, rad=2.0, center=(3.0, 1.0), hole=True)])
+    for r in (0.1, 0.4):
+        for init in ("core", "input", "mason"):
+            A = vt.tighten(S, r, init=init)
+            with monkeypatch.context() as m:
+                m.setattr(_fast, "_offset_certified", lambda D, S, side: False)
+                B = vt.tighten(S, r, init=init)
+            assert A._cache["_path"] == B._cache["_path"] == "fast"
+            assert len(A.loops) == len(B.loops)
+            for a, b in zip(A.loops, B.loops, strict=True):
+                assert np.array_equal(a._data, b._data) and np.array_equal(a._arc, b._arc)
+
+
+def _separated_brute(A, B, fat, nxt, eps):
+    m = len(A)
+    i, j = np.triu_indices(m, 1)
+    across = np.where(fat[nxt] > 0, nxt[nxt], nxt)
+    keep = (nxt[i] != j) & (nxt[j] != i) & (across[i] != j) & (across[j] != i)
+    i, j = i[keep], j[keep]
+    gap = _fast._segment_distances(A[i], B[i], A[j], B[j]) - fat[i] - fat[j]
+    return bool((gap >= eps).all())
+
+
+def _random_chains(sizes, seed, long_share):
+    """Closed chains: star-shaped rings (simple, a few pieces much longer than the rest) and random walks
+    closed on themselves (often crossing or nearly touching), some pieces marked as arcs."""
+    rng = np.random.default_rng(seed)
+    A, B, fat, nxt, first = [], [], [], [], []
+    start = 0
+    for n in sizes:
+        if rng.random() < 0.6:
+            th = np.sort(rng.uniform(0, 2 * np.pi, n))
+            rad = rng.uniform(3.0, 3.3, n) * (1 + 2 * (rng.random(n) < long_share))
+            pts = np.column_stack([rad * np.cos(th), rad * np.sin(th)]) + rng.normal(size=2) * 12
+        else:
+            steps = rng.normal(size=(n, 2)) * np.where(rng.random(n) < long_share, 8.0, 1.0)[:, None]
+            steps -= steps.mean(axis=0)
+            pts = np.cumsum(steps, axis=0) + rng.normal(size=2) * 5
+        A.append(pts)
+        B.append(np.roll(pts, -1, axis=0))
+        is_arc = rng.random(n) < 0.3
+        is_arc &= ~np.roll(is_arc, 1)             # arcs never follow arcs
+        fat.append(np.where(is_arc, rng.uniform(1e-6, 0.2, n), 0.0))
+        nxt.append(start + (np.arange(n) + 1) % n)
+        first.append(np.full(n, start))
+        start += n
+    return map(np.concatenate, (A, B, fat, nxt, first))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.integers(3, 60), min_size=1, max_size=4), st.integers(0, 2**32 - 1), st.floats(0.0, 0.3))
+def test_separated_agrees_with_all_pairs(sizes, seed, long_share):
+    # The candidate search may not miss a pair that the test of all pairs finds.
+    A, B, fat, nxt, first = _random_chains(sizes, seed, long_share)
+    for eps in (1e-9, 0.05, 0.5):
+        assert _fast._separated(A, B, fat, nxt, first, eps) == _separated_brute(A, B, fat, nxt, eps)
+
+
+@pytest.mark.parametrize("pieces_per_side", [5, 50, 500])
+def test_separated_finds_a_far_side_of_a_thin_ring(pieces_per_side):
+    # A 100 × 0.01 rectangle cut into many pieces: the two long sides are 0.01 apart and far apart along
+    # the ring.
+    x = np.linspace(0, 100, pieces_per_side + 1)
+    pts = np.concatenate([np.column_stack([x, np.zeros_like(x)]),
+                          np.column_stack([x[::-1], np.full_like(x, 0.01)])])
+    m = len(pts)
+    A, B = pts, np.roll(pts, -1, axis=0)
+    fat, nxt, first = np.zeros(m), (np.arange(m) + 1) % m, np.zeros(m, int)
+    assert _fast._separated(A, B, fat, nxt, first, 0.0099)
+    assert not _fast._separated(A, B, fat, nxt, first, 0.0101)
+    assert _separated_brute(A, B, fat, nxt, 0.0101) is False
