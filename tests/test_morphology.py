@@ -204,6 +204,10 @@ def test_rounding_cracks_between_parts_are_closed_with_a_warning():
     # A hole touching the shell at two points cuts off a corner: two parts meeting at sharp corners, whose
     # mitres overlap more than a point touch's but join nothing (found by hypothesis).
     box(0, 0, 10, 10).difference(Point(1, 1).buffer(1, quad_segs=2)),
+    # The complement of a hole (a 16-gon) touching its shell at one vertex: the wedge's overlap is
+    # 20·eps², and closing it joined the parts and broke self-duality (found by hypothesis).
+    box(-20, -20, 30, 30).difference(
+        Polygon(box(0, 0, 10, 10).exterior, [Point(1, 3).buffer(1, quad_segs=4).exterior])),
 ])
 def test_parts_touching_at_a_point_or_a_real_gap_apart_are_left_alone(S):
     with warnings.catch_warnings():

@@ -243,8 +243,12 @@ def test_input_mode_is_self_dual(S):
         S = vt._validation.check_shape(S)
     x0, y0, x1, y1 = S.bounds
     B = box(x0 - 20, y0 - 20, x1 + 20, y1 + 20)
-    T = vt.tighten(S, r, init="input").geometry
-    TC = vt.tighten(B.difference(S), r, init="input").geometry
+    # The complement comes from an overlay, which may leave parts an ulp apart where S's parts touch; the
+    # engine closes such cracks (with a RepairWarning) exactly as it does for S above.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RepairWarning)
+        T = vt.tighten(S, r, init="input").geometry
+        TC = vt.tighten(B.difference(S), r, init="input").geometry
     near = box(x0 - 2, y0 - 2, x1 + 2, y1 + 2)
     d = B.difference(TC).intersection(near).symmetric_difference(T.intersection(near)).area
     assert d <= 1e-5 * S.length * r

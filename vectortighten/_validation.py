@@ -115,8 +115,12 @@ def _close_cracks(S, name: str):
         return S
     i, j = i[keep], j[keep]
     grown = shapely.buffer(parts, eps, join_style="mitre", mitre_limit=10.0)
-    # Two eps-grown parts touching at a corner overlap by about (2·eps)²; a crack of length L by 2·eps·L.
-    cracked = shapely.area(shapely.intersection(grown[i], grown[j])) > 16.0 * eps * eps
+    # A crack of length L makes the eps-grown parts overlap by about 2·eps·L. Parts touching at a point
+    # overlap too, in the wedge between them: about (2·eps)² at a right angle, but 20·eps² where a 16-gon's
+    # vertex meets an edge (a hole touching its shell), and closing that wedge would join the parts.
+    # So a crack must be at least 1000·eps long (10⁻⁶ of the shape's size); a shared edge shorter than that
+    # is not one a user draws.
+    cracked = shapely.area(shapely.intersection(grown[i], grown[j])) > 2000.0 * eps * eps
     if not cracked.any():
         return S
     involved = np.unique(np.concatenate([i[cracked], j[cracked]]))
