@@ -294,6 +294,17 @@ def _simple_table() -> np.ndarray:
 _SIMPLE = _simple_table()
 
 
+def _ring_codes(flat: np.ndarray, pos: np.ndarray, W: int) -> np.ndarray:
+    """The 8-bit code of each pixel's ring (bit i: `_RING`'s i-th neighbour inside), the index into
+    `_SIMPLE`. ``flat`` (row length W) is the inside set, or Φ (inside where negative); ``pos`` are flat
+    indices away from its edge. Only the rings are read, so Φ is never compared as a whole."""
+    offsets = np.array([dr * W + dc for dr, dc in _RING])
+    ring = flat[pos[:, None] + offsets[None, :]]
+    if ring.dtype != bool:
+        ring = ring < 0
+    return (ring * (1 << np.arange(8))).sum(axis=1)
+
+
 def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np.ndarray:
     """Move the set ``start`` towards ``target`` by flipping simple pixels only, a layer at a time.
 
@@ -321,8 +332,6 @@ def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np
     mov = np.pad(movable, 1, mode="constant")
     W = cur.shape[1]
     flat = cur.ravel()
-    offsets = np.array([dr * W + dc for dr, dc in _RING])
-    weights = 1 << np.arange(8)
 
     def flip_simple() -> np.ndarray:
         while True:
@@ -335,7 +344,7 @@ def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np
                 p = cand[parity == sub]
                 if p.size == 0:
                     continue
-                code = ((flat[p[:, None] + offsets[None, :]]) * weights).sum(axis=1)
+                code = _ring_codes(flat, p, W)
                 was = flat[p]
                 ok = _SIMPLE[code] | ((code == 255) & ~was) | ((code == 0) & was)
                 flat[p[ok]] = ~was[ok]
@@ -375,8 +384,6 @@ def _keep_topology(flat: np.ndarray, idx: np.ndarray, old: np.ndarray, new: np.n
         return new
     pos = idx[flips]
     flat[pos] = old[flips]                      # undo, then redo pass by pass where allowed
-    offsets = np.array([dr * W + dc for dr, dc in _RING])
-    weights = 1 << np.arange(8)
     parity = (pos // W % 2) * 2 + (pos % W % 2)
     out = new.copy()
     for sub in range(4):
@@ -384,8 +391,7 @@ def _keep_topology(flat: np.ndarray, idx: np.ndarray, old: np.ndarray, new: np.n
         if not sel.any():
             continue
         p = pos[sel]
-        ring = flat[p[:, None] + offsets[None, :]] < 0
-        code = (ring * weights).sum(axis=1)
+        code = _ring_codes(flat, p, W)
         k = flips[sel]
         # Simple pixels, and the last pixel of a component or a hole: small parts may vanish (creating
         # one, a pixel unlike all its neighbours turning, may not).
@@ -412,8 +418,6 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
     flat = P.ravel()
     comp = owner = None
     stale = own_front
-    ring_offsets = np.array([dr * Wp + dc for dr, dc in _RING])
-    ring_weights = 1 << np.arange(8)
     snapshot, last_flip = None, 0
     for steps in range(1, iterations + 1):
         if band.idx.size == 0:
@@ -454,7 +458,7 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
             # a hole (a pixel not simple after the step), and whenever the band moves on, the labels and
             # owners are found again from scratch.
             pos = idx[flips]
-            code = ((flat[pos[:, None] + ring_offsets[None, :]] < 0) * ring_weights).sum(axis=1)
+            code = _ring_codes(flat, pos, Wp)
             if rebuild or not _SIMPLE[code].all():
                 stale = True
             else:
