@@ -464,3 +464,14 @@ def test_figures_command_one_figure(tmp_path, capsys):
     assert (tmp_path / "figs" / "fig2_round_fillet.png").stat().st_size > 1000
     assert main(["figures", "-o", str(tmp_path / "figs"), "--only", "fig99"]) == 2
     assert "unknown figure" in capsys.readouterr().err
+
+
+def test_compare_supersampled(tmp_path, capsys):
+    src = tmp_path / "wedge.wkt"
+    src.write_text("POLYGON ((0 0, 5.87 1.25, 5.87 -1.25, 0 0))")
+    assert main(["compare", str(src), "-r", "0.5", "--supersample", "3"]) == 0
+    rows = dict(line.split("  ", 1) for line in capsys.readouterr().out.splitlines())
+    assert rows["agree"].strip().startswith("yes")
+    with pytest.raises(SystemExit) as exc:
+        main(["compare", str(src), "-r", "0.5", "--supersample", "2"])
+    assert exc.value.code == 2 and "must be odd" in capsys.readouterr().err
