@@ -185,3 +185,14 @@ def test_supersample_must_be_odd_and_whole(bad):
         raster.tighten(M, 3.0, supersample=bad)
     with pytest.raises(ValueError, match="supersample"):
         crosscheck(box(0, 0, 4, 4), 1.0, pixel_size=0.1, supersample=bad)
+
+
+def test_supersampling_keeps_a_disk_whose_shrink_is_under_a_pixel():
+    # A disk of radius 1.02·r: its shrink is a disk of radius 0.02·r, 0.4 px at r/20, which holds no pixel
+    # centre, so the plain pixel core is empty and the part vanishes; the exact tightening keeps the disk.
+    # Three times finer the shrink holds a pixel and the pixel result keeps the disk too.
+    S = Point(0.3, 0.1).buffer(1.02, quad_segs=64)
+    plain = crosscheck(S, 1.0, pixel_size=0.05)
+    fine = crosscheck(S, 1.0, pixel_size=0.05, supersample=3)
+    assert plain.vector_topology == (1, 0) and plain.raster_topology == (0, 0)
+    assert fine.agree and fine.hausdorff_px < 1.0
