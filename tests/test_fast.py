@@ -219,3 +219,24 @@ def test_separated_finds_a_far_side_of_a_thin_ring(pieces_per_side):
     assert _fast._separated(A, B, fat, nxt, first, 0.0099)
     assert not _fast._separated(A, B, fat, nxt, first, 0.0101)
     assert _separated_brute(A, B, fat, nxt, 0.0101) is False
+
+
+def test_verify_judges_dense_fast_path_results_by_their_own_exact_tests():
+    # 10k vertices, every corner isolated: GEOS's buffers simplify this ring by up to r/100 and miss
+    # vertices the arcs are centred on; verify() once reported such arcs as "not centred on an arc centre".
+    T = vt.tighten(Polygon(wavy(10_000)), 0.5)
+    assert T._cache["_path"] == "fast"
+    assert T.verify() == []
+
+
+def test_verify_flags_a_fast_path_loop_that_is_not_the_certified_one():
+    from vectortighten.engine import _DiskLoop
+
+    T = vt.tighten(Polygon(wavy(400)), 0.5)
+    assert T._cache["_path"] == "fast" and T.verify() == []
+    ctx, loops, args = T._cache["_exact"]
+    L = loops[0]
+    c = L.c.copy()
+    c[7] += 1e-6                                    # one disk moved by a millionth of the shape's size
+    T._cache["_exact"] = (ctx, [_DiskLoop(L.cid, L.side, c, L.phi, L.length, L.sweep, L.r, L.converged)], args)
+    assert any("not the one the fast path's exact tests certify" in p for p in T.verify())

@@ -956,6 +956,8 @@ class Tightening:
 
     def _check_exact(self) -> list[str]:
         """Arcs on the right boundary, pieces inside the mortar, loops disjoint — in the local frame."""
+        if self._cache.get("_path") == "fast":
+            return self._check_fast()
         info = self._exact_context()
         if info is None:
             return []
@@ -974,6 +976,39 @@ class Tightening:
         if _contacts(ctx, disk_loops):
             problems.append("(b) two loops (or two parts of one) touch")
         return problems
+
+
+    def _check_fast(self) -> list[str]:
+        """(b) and (c) for a result of the fast path, by its own exact tests.
+
+        Its arcs are centred on S's vertices, tangent to both edges. The general engine's context cannot
+        judge them on dense input: GEOS simplifies a buffer's input by up to r/100, so the buffered
+        shrink and grow miss the vertices of S that such arcs are centred on. The fast path's tests work
+        from the edges of S alone (`_fast`): they are run again on S, and must certify it and give these
+        very disks, in the same order, on the same sides, with the same sweeps.
+        """
+        _, disk_loops, (S_local, r_l, _) = self._cache["_exact"]
+        again = _fast.fast_disk_loops(S_local, r_l, quad_segs_for(r_l, EXACT_CHORD_R * r_l), self.init)
+        if again is None:
+            return ["(c) the corners of S are not all isolated: the fast path's exact tests reject this result"]
+        problems = []
+        if len(again) != len(disk_loops):
+            problems.append(f"(c) the exact tests give {len(again)} loop(s), the result has {len(disk_loops)}")
+        for i, (L, (c, side, _, _, sweep)) in enumerate(zip(disk_loops, again)):
+            same = (len(c) == L.n and np.allclose(c, L.c, rtol=0.0, atol=ZERO_SCALE)
+                    and (side == L.side).all() and np.allclose(sweep, L.sweep, rtol=0.0, atol=_ANGLE_EPS))
+            if not same:
+                problems.append(f"(c) loop {i} is not the one the fast path's exact tests certify")
+        if _contacts(_Radius(r_l), disk_loops):
+            problems.append("(b) two loops (or two parts of one) touch")
+        return problems
+
+
+@dataclass(frozen=True)
+class _Radius:
+    """All that `_contacts` reads of a context: the radius (local frame)."""
+
+    r: float
 
 
 def _rebind(ctx: _Context, L: _DiskLoop) -> _DiskLoop:
