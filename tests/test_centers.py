@@ -50,6 +50,25 @@ def test_line_point_and_point_point_centres():
     assert pp and all(abs(p[0] - 4.3) < 1e-12 for p in pp)
 
 
+@pytest.mark.parametrize("tol", [1e-7, 1e-5, 1e-3])
+def test_centre_near_a_medial_axis_junction(tol):
+    # Near (-0.94, 2.55) a reflex vertex and two edge lines all lie within 1e-5·r of distance r: a buffer
+    # vertex there is nearest to the solution of the wrong pair (it is closer than r to the third
+    # feature). Every pair's solution must be tried, the nearest valid one kept, at any chord tolerance.
+    S = Polygon([(4.607640671105351, 0.1426764541855958), (1.924168086398417, 1.615177262663519),
+                 (4.84001594122839, 6.393976405900918), (0.0193415544990768, 4.234736480675397),
+                 (-5.935673107164341, 4.49660187619068), (-3.6864736308001778, 2.0411382101909976),
+                 (-7.697604777435771, 4.120123480917884), (-3.9059665123919327, -0.0005430322968352),
+                 (-2.072448819764375, -2.1201787566941928), (-3.7085008892394677, -7.367319301492925),
+                 (0.2821825479647473, -3.814298300037595), (1.3365420023489358, -3.1225001661492),
+                 (5.950388929245864, -2.7797098988633997), (2.3674280207146663, -0.8024760374142055)])
+    r = 2.073353492818982
+    C = vt.arc_centers(S, r, tolerance=tol * r)
+    assert C.exact.all()
+    assert np.abs(C.feature_distances() - r).max() <= 1e-13 * r
+    assert (shapely.distance(S.boundary, shapely.points(C.xy)) >= r * (1 - 1e-12)).all()
+
+
 @settings(max_examples=40, deadline=None)
 @given(shapes.flatmap(lambda S: st.tuples(st.just(S), radii_for(S))))
 def test_centres_are_exact_and_valid(case):

@@ -339,12 +339,16 @@ def _solve_pairs(p, fa, fb, a, b, r, side):
     return np.concatenate(rows), np.concatenate(ks), np.concatenate(sols)
 
 
-def _refine_all_pairs(points, pairs, starts, counts, exact, xy, feats, a, b, r, side, w, tiny):
+def _refine_all_pairs(points, pairs, starts, counts, exact, xy, feats, a, b, r, side, w, tiny, tree):
     """For each point not yet solved with two or more features in the band: the solution over all pairs
     of its features (the six nearest to r when there are more) nearest to the point, that lies within the
-    window and at distance r from both features. Updates ``xy``, ``feats`` and ``exact`` in place.
+    window, at distance r from both features and no nearer than r to any feature of S. Updates ``xy``,
+    ``feats`` and ``exact`` in place.
 
     Same as trying every pair of every point one at a time, first solution kept among equally near ones.
+    Near a junction of the medial axis three or more features lie at about r from the point; the pair
+    whose solution is nearest may then give a point closer than r to a third feature, which is no centre
+    (a coarse buffer places its vertex nearer to that wrong solution than to the right one).
     """
     owner = pairs[starts, 0]
     grp = np.flatnonzero((counts >= 2) & ~exact[owner])
@@ -391,6 +395,12 @@ def _refine_all_pairs(points, pairs, starts, counts, exact, xy, feats, a, b, r, 
         dd = _distance_to_feature(sol, a[f // 2], b[f // 2], f % 2)
         keep = np.abs(dd - r) <= 10 * tiny
         row, k, sol, dev = row[keep], k[keep], sol[keep], dev[keep]
+    if len(row) == 0:
+        return
+    hit, _ = tree.query(shapely.points(sol), predicate="dwithin", distance=r * (1 - 1e-9) - tiny)
+    clear = np.ones(len(row), dtype=bool)
+    clear[hit] = False
+    row, k, sol, dev = row[clear], k[clear], sol[clear], dev[clear]
     if len(row) == 0:
         return
     # Nearest solution of each group; among equally near ones the first tried (pair order, then solution).
@@ -464,7 +474,7 @@ def _refine(points, side, a, b, nxt, tree, r, window, scale):
         feats[k[good]] = fk[good]
         exact[k[good]] = True
         # Three or more features (or a failed pair): every pair, nearest solution (all points at once).
-        _refine_all_pairs(points, pairs, starts, counts, exact, xy, feats, a, b, r, side, w, tiny)
+        _refine_all_pairs(points, pairs, starts, counts, exact, xy, feats, a, b, r, side, w, tiny, tree)
     # A centre must keep distance r from every feature, not just its two.
     if exact.any():
         idx = np.flatnonzero(exact)
