@@ -17,6 +17,7 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString, MultiPolygon, Point, Polygon
 
+from ._proximity import EdgeIndex, point_segment_distance
 from ._validation import check_radius, check_shape, check_tolerance, quad_segs_for
 from .curves import Side
 from .tolerances import ANGLE_ZERO, CENTER_SEARCH_R, ZERO_SCALE
@@ -139,133 +140,14 @@ def _corner_vertices(P, convex: bool) -> np.ndarray:
     return np.concatenate(out) if out else np.zeros((0, 2))
 
 
-# -- the three exact constructions ----------------------------------------------------------------------
-def _solve_pair(p, fa, fb, a, b, r, side):
-    """Points at distance r from features fa and fb (keys), on the side of S given by ``side``.
-
-    Returns candidate solutions (list of (2,) arrays). A line feature is the line of the edge, offset by r
-    toward the side of S (left of the edge for side +1, right for −1).
-    """
-    kinds = (fa % 2, fb % 2)
-    ia, ib = fa // 2, fb // 2
-    if kinds == (0, 0):
-        return _line_line(a[ia], b[ia], a[ib], b[ib], r, side, p)
-    if kinds == (1, 1):
-        return _point_point(a[ia], a[ib], r)
-    if kinds[0] == 1:
-        ia, ib = ib, ia
-    return _line_point(a[ia], b[ia], a[ib], r, side)
-
-
-def _offset_line(a, b, r, side):
-    d = b - a
-    n = np.array([-d[1], d[0]]) / math.hypot(*d)
-    return a + side * r * n, d / math.hypot(*d), n
-
-
-def _line_line(a1, b1, a2, b2, r, side, p):
-    o1, u1, n1 = _offset_line(a1, b1, r, side)
-    o2, u2, n2 = _offset_line(a2, b2, r, side)
-    M = np.array([n1, n2])
-    rhs = np.array([n1 @ o1, n2 @ o2])
-    det = np.linalg.det(M)
-    if abs(det) < 1e-12:
-        # Parallel offset lines: the solutions form a line; keep the projection of p onto it.
-        return [p - ((p - o1) @ n1) * n1]
-    return [np.linalg.solve(M, rhs)]
-
-
-def _line_point(a, b, q, r, side):
-    o, u, n = _offset_line(a, b, r, side)
-    w = o - q
-    beta = u @ w
-    disc = beta * beta - (w @ w - r * r)
-    if disc < -1e-9 * r * r:
-        return []
-    root = math.sqrt(max(disc, 0.0))
-    return [o + (-beta - root) * u, o + (-beta + root) * u]
-
-
-def _point_point(q1, q2, r):
-    m = 0.5 * (q1 + q2)
-    h = 0.5 * math.hypot(*(q2 - q1))
-    if h == 0 or h > r * (1 + 1e-12):
-        return []
-    off = math.sqrt(max(r * r - h * h, 0.0))
-    d = (q2 - q1) / (2 * h)
-    n = np.array([-d[1], d[0]])
-    return [m + off * n, m - off * n]
-
-
-def _solve_many(p, fa, fb, a, b, r, side):
-    """Vectorised solve of "distance r from feature fa and from feature fb", nearest solution to p.
-
-    Returns ``(m, 2)`` solutions (NaN where there is none or the case is degenerate).
-    """
-    fa, fb = fa.copy(), fb.copy()
-    swap = (fa % 2 == 1) & (fb % 2 == 0)
-    fa[swap], fb[swap] = fb[swap], fa[swap]
-    ia, ib = fa // 2, fb // 2
-    out = np.full((len(p), 2), np.nan)
-
-    def offset(i):
-        d = b[i] - a[i]
-        L = np.hypot(d[:, 0], d[:, 1])[:, None]
-        u = d / L
-        n = np.column_stack([-u[:, 1], u[:, 0]])
-        return a[i] + side * r * n, u, n
-
-    ll = (fa % 2 == 0) & (fb % 2 == 0)
-    if ll.any():
-        o1, u1, n1 = offset(ia[ll])
-        o2, u2, n2 = offset(ib[ll])
-        det = n1[:, 0] * n2[:, 1] - n1[:, 1] * n2[:, 0]
-        r1 = (n1 * o1).sum(axis=1)
-        r2 = (n2 * o2).sum(axis=1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x = (r1 * n2[:, 1] - r2 * n1[:, 1]) / det
-            y = (n1[:, 0] * r2 - n2[:, 0] * r1) / det
-        sol = np.column_stack([x, y])
-        sol[np.abs(det) < 1e-12] = np.nan
-        out[ll] = sol
-    lp = (fa % 2 == 0) & (fb % 2 == 1)
-    if lp.any():
-        o, u, _ = offset(ia[lp])
-        q = a[ib[lp]]
-        w = o - q
-        beta = (u * w).sum(axis=1)
-        disc = beta * beta - ((w * w).sum(axis=1) - r * r)
-        root = np.sqrt(np.maximum(disc, 0.0))
-        c1 = o + (-beta - root)[:, None] * u
-        c2 = o + (-beta + root)[:, None] * u
-        pick = np.hypot(*(c1 - p[lp]).T) <= np.hypot(*(c2 - p[lp]).T)
-        sol = np.where(pick[:, None], c1, c2)
-        sol[disc < -1e-9 * r * r] = np.nan
-        out[lp] = sol
-    pp = (fa % 2 == 1) & (fb % 2 == 1)
-    if pp.any():
-        q1, q2 = a[ia[pp]], a[ib[pp]]
-        m = 0.5 * (q1 + q2)
-        h = 0.5 * np.hypot(*(q2 - q1).T)
-        off = np.sqrt(np.maximum(r * r - h * h, 0.0))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            d = (q2 - q1) / (2 * h)[:, None]
-        n = np.column_stack([-d[:, 1], d[:, 0]])
-        c1, c2 = m + off[:, None] * n, m - off[:, None] * n
-        pick = np.hypot(*(c1 - p[pp]).T) <= np.hypot(*(c2 - p[pp]).T)
-        sol = np.where(pick[:, None], c1, c2)
-        sol[(h == 0) | (h > r * (1 + 1e-12))] = np.nan
-        out[pp] = sol
-    return out
-
-
 # Pairs of candidates among m features, in `itertools.combinations` order.
 _COMBOS = {m: np.array(list(itertools.combinations(range(m), 2)), dtype=np.int64).reshape(-1, 2)
            for m in range(2, 7)}
 
 
 def _hypot_rows(v: np.ndarray) -> np.ndarray:
-    """``math.hypot`` of each row (as the one-point solvers compute it, to the last bit)."""
+    """``math.hypot`` of each row (correctly rounded, unlike ``np.hypot`` on some platforms: centres, and
+    the snapped buffers built on them, do not change with the numpy build)."""
     if len(v) == 0:
         return np.zeros(0)
     return _HYPOT(v[:, 0], v[:, 1]).astype(float)
@@ -275,9 +157,14 @@ _HYPOT = np.frompyfunc(math.hypot, 2, 1)
 
 
 def _solve_pairs(p, fa, fb, a, b, r, side):
-    """`_solve_pair` for many (point, feature, feature) rows at once, with the same arithmetic.
+    """Points at distance r from feature ``fa[i]`` and from feature ``fb[i]``, for every row i at once.
 
-    Returns ``(row, k, xy)``: solution ``k`` (0 or 1, in `_solve_pair`'s order) of row ``row``.
+    A feature is a key: ``2·e`` the line of edge e, ``2·e + 1`` vertex e (the start of edge e). A line
+    feature stands for the edge's line offset by r toward ``side`` (left of the edge for +1, right for
+    −1): line–line has one solution (for parallel lines, the projection of ``p`` onto the common offset),
+    line–point and point–point have two (or none).
+
+    Returns ``(row, k, xy)``: solution ``k`` (0 or 1) of row ``row``.
     """
     kinds_a, kinds_b = fa % 2, fb % 2
     swap = (kinds_a == 1) & (kinds_b == 0)
@@ -339,87 +226,90 @@ def _solve_pairs(p, fa, fb, a, b, r, side):
     return np.concatenate(rows), np.concatenate(ks), np.concatenate(sols)
 
 
-def _refine_all_pairs(points, pairs, starts, counts, exact, xy, feats, a, b, r, side, w, tiny, tree):
-    """For each point not yet solved with two or more features in the band: the solution over all pairs
-    of its features (the six nearest to r when there are more) nearest to the point, that lies within the
-    window, at distance r from both features and no nearer than r to any feature of S. Updates ``xy``,
-    ``feats`` and ``exact`` in place.
+def _ranges(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """The concatenation of ``arange(s, s + c)`` over the rows (vectorised)."""
+    total = int(counts.sum())
+    if total == 0:
+        return np.zeros(0, dtype=np.int64)
+    offsets = np.cumsum(counts) - counts
+    return np.repeat(starts - offsets, counts) + np.arange(total)
 
-    Same as trying every pair of every point one at a time, first solution kept among equally near ones.
-    Near a junction of the medial axis three or more features lie at about r from the point; the pair
-    whose solution is nearest may then give a point closer than r to a third feature, which is no centre
-    (a coarse buffer places its vertex nearer to that wrong solution than to the right one).
+
+def _clear_of_listed(xy, owner, dev, chk_start, chk_dist, chk_edge, a, b, limit, tiny) -> np.ndarray:
+    """Whether each point ``xy[i]`` is at distance ≥ ``limit`` from the edges listed for ``owner[i]``.
+
+    An owner's edges are listed by increasing distance ``chk_dist`` from the owner (rows ``chk_start[o]``
+    to ``chk_start[o + 1]``); a point ``dev[i]`` away from its owner can come nearer than ``limit`` only
+    to those nearer than ``limit + dev[i]`` to the owner, a prefix found by binary search.
     """
-    owner = pairs[starts, 0]
-    grp = np.flatnonzero((counts >= 2) & ~exact[owner])
-    if len(grp) == 0:
-        return
-    # The candidate features of each group: all, or the six nearest to r.
-    cands: dict[int, list] = {}
-    many = grp[counts[grp] > 6]
-    if len(many):
-        lens = counts[many]
-        rows = np.repeat(starts[many], lens) + (np.arange(lens.sum()) - np.repeat(np.cumsum(lens) - lens, lens))
-        keys = pairs[rows, 1]
-        dd_all = _distance_to_feature(points[pairs[rows, 0]], a[keys // 2], b[keys // 2], keys % 2)
-        off = 0
-        for g, c in zip(many.tolist(), lens.tolist()):
-            dd = dd_all[off:off + c]
-            cand = pairs[starts[g]:starts[g] + c, 1][np.argsort(np.abs(dd - r))[:6]]
-            cands.setdefault(6, []).append((g, cand))
-            off += c
-    few = grp[counts[grp] <= 6]
-    for c in np.unique(counts[few]).tolist():
-        g = few[counts[few] == c]
-        block = pairs[starts[g][:, None] + np.arange(c)[None, :], 1]
-        cands.setdefault(c, []).extend(zip(g.tolist(), block))
-    G, FA, FB, ORD = [], [], [], []
-    for m, items in cands.items():
-        gs = np.array([g for g, _ in items], dtype=np.int64)
-        C = np.stack([cand for _, cand in items])
+    lo, hi = chk_start[owner], chk_start[owner + 1]
+    bound = limit + dev + 2 * tiny
+    left, right = lo.copy(), hi.copy()
+    while True:
+        active = left < right
+        if not active.any():
+            break
+        mid = (left + right) // 2
+        below = np.zeros(len(xy), dtype=bool)
+        below[active] = chk_dist[mid[active]] < bound[active]
+        left = np.where(active & below, mid + 1, left)
+        right = np.where(active & ~below, mid, right)
+    counts = left - lo
+    rows = _ranges(lo, counts)
+    if len(rows) == 0:
+        return np.ones(len(xy), dtype=bool)
+    e = chk_edge[rows]
+    d = point_segment_distance(np.repeat(xy, counts, axis=0), a[e], b[e])
+    low = np.full(len(xy), np.inf)
+    has = counts > 0
+    low[has] = np.minimum.reduceat(d, (np.cumsum(counts) - counts)[has])
+    return low >= limit
+
+
+_PAIR_FEATURES = 6                    # the features nearest to a point among which pairs are solved
+
+
+def _candidates(points, owner, key, kd, a, b, r, side):
+    """Every solution of every pair among each point's candidate features.
+
+    ``owner``, ``key`` and ``kd`` list, sorted by owner and then by ``kd`` (the distance from the owner),
+    the features (keys) near each point; the first `_PAIR_FEATURES` of each owner are paired.
+    Returns ``(owner, fa, fb, order, xy)``: for each candidate its point, its two features, its rank
+    among that point's pairs and solutions (``itertools.combinations`` order, then solution 0 before 1)
+    and its position.
+    """
+    if len(owner) == 0:
+        return (np.zeros(0, dtype=np.int64),) * 4 + (np.zeros((0, 2)),)
+    starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
+    counts = np.minimum(np.diff(np.r_[starts, len(owner)]), _PAIR_FEATURES)
+    OWN, FA, FB, ORD = [], [], [], []
+    for m in np.unique(counts[counts >= 2]).tolist():
+        g = starts[counts == m]
+        C = key[g[:, None] + np.arange(m)[None, :]]
         I, J = _COMBOS[m][:, 0], _COMBOS[m][:, 1]
-        G.append(np.repeat(gs, len(I)))
+        OWN.append(np.repeat(owner[g], len(I)))
         FA.append(C[:, I].ravel())
         FB.append(C[:, J].ravel())
-        ORD.append(np.tile(np.arange(len(I)), len(gs)))
-    G, FA, FB, ORD = map(np.concatenate, (G, FA, FB, ORD))
-    ok = ~((FA // 2 == FB // 2) & (FA % 2 != FB % 2))
-    G, FA, FB, ORD = G[ok], FA[ok], FB[ok], ORD[ok]
-    P = points[owner[G]]
-    row, k, sol = _solve_pairs(P, FA, FB, a, b, r, side)
-    dev = _hypot_rows(sol - P[row])
-    good = dev <= w + tiny
-    row, k, sol, dev = row[good], k[good], sol[good], dev[good]
-    for F in (FA, FB):
-        f = F[row]
-        dd = _distance_to_feature(sol, a[f // 2], b[f // 2], f % 2)
-        keep = np.abs(dd - r) <= 10 * tiny
-        row, k, sol, dev = row[keep], k[keep], sol[keep], dev[keep]
-    if len(row) == 0:
-        return
-    hit, _ = tree.query(shapely.points(sol), predicate="dwithin", distance=r * (1 - 1e-9) - tiny)
-    clear = np.ones(len(row), dtype=bool)
-    clear[hit] = False
-    row, k, sol, dev = row[clear], k[clear], sol[clear], dev[clear]
-    if len(row) == 0:
-        return
-    # Nearest solution of each group; among equally near ones the first tried (pair order, then solution).
-    order = np.lexsort((k, ORD[row], dev, G[row]))
-    gs = G[row][order]
-    first = order[np.r_[True, gs[1:] != gs[:-1]]]
-    kk = owner[G[row[first]]]
-    xy[kk] = sol[first]
-    feats[kk] = np.column_stack([FA[row[first]], FB[row[first]]])
-    exact[kk] = True
+        ORD.append(np.tile(np.arange(len(I)), len(g)))
+    if not OWN:
+        return (np.zeros(0, dtype=np.int64),) * 4 + (np.zeros((0, 2)),)
+    OWN, FA, FB, ORD = map(np.concatenate, (OWN, FA, FB, ORD))
+    ok = ~((FA // 2 == FB // 2) & (FA % 2 != FB % 2))           # not an edge's line with its own start
+    OWN, FA, FB, ORD = OWN[ok], FA[ok], FB[ok], ORD[ok]
+    row, k, xy = _solve_pairs(points[OWN], FA, FB, a, b, r, side)
+    return OWN[row], FA[row], FB[row], 2 * ORD[row] + k, xy
 
 
-def _refine(points, side, a, b, nxt, tree, r, window, scale):
+def _refine(points, side, a, b, nxt, index: EdgeIndex, r, window, scale):
     """Exact centres near the approximate ``points`` (one side); returns xy, features, exact flags.
 
-    Each point is matched with the features of S (edge lines, vertices) whose distance from it lies in a
-    band of half-width ``w`` around r; the common case of exactly two is solved vectorised, the rest one by
-    one over all pairs. The band widens (×10, ×100, ×300) for points still unmatched: GEOS's buffers may
-    misplace a vertex by up to a hundredth of r where it simplifies its input.
+    Each point is matched with the features of S (edge lines, vertices) within ``r + w`` of it, and every
+    pair among the nearest few is solved exactly. A solution counts when it lies at distance r from both
+    its features and no nearer than r to any edge of S; the one nearest to the point is kept, provided it
+    is within ``300·window`` of it (GEOS's buffers may misplace a vertex by up to a hundredth of r where
+    they simplify their input, and where two offset arcs cross at a shallow angle a chord moves the
+    crossing far along them). The band widens (×10, ×100, ×300) for points still unmatched: an edge's
+    line is offered only where the point's foot falls within ``w`` of the edge.
     """
     n = len(points)
     xy = points.copy()
@@ -428,61 +318,57 @@ def _refine(points, side, a, b, nxt, tree, r, window, scale):
     if n == 0:
         return xy, feats, exact
     tiny = ZERO_SCALE * scale
+    limit = r * (1 - 1e-9) - tiny
+    reach = 300 * window
     for w in (window, 10 * window, 100 * window, 300 * window):
         todo = np.flatnonzero(~exact)
         if len(todo) == 0:
             break
-        pi, ei = tree.query(shapely.points(points[todo]), predicate="dwithin", distance=r + w)
+        pi, ei, dist = index.near_points(points[todo], r + w)
         pi = todo[pi]
-        p = points[pi]
+        chk_start = np.r_[0, np.cumsum(np.bincount(pi, minlength=n))]       # pi is sorted
+        # The features each edge offers: its line where the point's foot falls inside it, its ends where
+        # the foot falls (close to) an end; each with its distance from the point.
         d = b[ei] - a[ei]
         L2 = np.einsum("ij,ij->i", d, d)
-        t = np.einsum("ij,ij->i", p - a[ei], d) / L2
-        tc = np.clip(t, 0.0, 1.0)
-        dist = np.hypot(*(p - (a[ei] + tc[:, None] * d)).T)
-        near = np.abs(dist - r) <= w
-        pi, ei, t = pi[near], ei[near], t[near]
-        # An edge whose nearest point is (close to) an end contributes that vertex; one whose nearest point
-        # is inside contributes its line; near an end it contributes both and the solve decides.
-        slack = w / np.sqrt(L2[near])
-        line = (t > -slack) & (t < 1 + slack)
-        at0 = t < slack
-        at1 = t > 1 - slack
-        keys = np.concatenate([2 * ei[line], 2 * ei[at0] + 1, 2 * nxt[ei[at1]] + 1])
-        owners = np.concatenate([pi[line], pi[at0], pi[at1]])
-        # Distinct (owner, key) pairs in lexicographic order, through one integer key (fast to sort).
-        base = 2 * len(a) + 2
-        code = np.unique(owners.astype(np.int64) * base + keys)
-        pairs = np.column_stack([code // base, code % base])
-        if len(pairs) == 0:
-            continue
-        starts = np.flatnonzero(np.r_[True, pairs[1:, 0] != pairs[:-1, 0]])
-        counts = np.diff(np.r_[starts, len(pairs)])
-        # Two features, not an edge's line with its own end: solve all at once.
-        two = starts[counts == 2]
-        fa, fb = pairs[two, 1], pairs[two + 1, 1]
-        ok = ~((fa // 2 == fb // 2) & (fa % 2 != fb % 2))
-        two, fa, fb = two[ok], fa[ok], fb[ok]
-        k = pairs[two, 0]
-        sol = _solve_many(points[k], fa, fb, a, b, r, side)
-        good = np.isfinite(sol).all(axis=1) & (np.hypot(*(sol - points[k]).T) <= w + tiny)
-        fk = np.column_stack([fa, fb])
-        for j in range(2):
-            dd = _distance_to_feature(sol, a[fk[:, j] // 2], b[fk[:, j] // 2], fk[:, j] % 2)
-            good &= np.abs(dd - r) <= 10 * tiny
-        xy[k[good]] = sol[good]
-        feats[k[good]] = fk[good]
-        exact[k[good]] = True
-        # Three or more features (or a failed pair): every pair, nearest solution (all points at once).
-        _refine_all_pairs(points, pairs, starts, counts, exact, xy, feats, a, b, r, side, w, tiny, tree)
-    # A centre must keep distance r from every feature, not just its two.
-    if exact.any():
-        idx = np.flatnonzero(exact)
-        hit, _ = tree.query(shapely.points(xy[idx]), predicate="dwithin", distance=r * (1 - 1e-9) - tiny)
-        bad = idx[np.unique(hit)]
-        exact[bad] = False
-        xy[bad] = points[bad]
-        feats[bad] = -1
+        t = np.einsum("ij,ij->i", points[pi] - a[ei], d) / L2
+        slack = w / np.sqrt(L2)
+        line, at0, at1 = (t > -slack) & (t < 1 + slack), t < slack, t > 1 - slack
+        owner = np.concatenate([pi[line], pi[at0], pi[at1]])
+        key = np.concatenate([2 * ei[line], 2 * ei[at0] + 1, 2 * nxt[ei[at1]] + 1])
+        kd = _distance_to_feature(points[owner], a[key // 2], b[key // 2], key % 2)
+        # Distinct (owner, key), sorted by owner, then distance, then key.
+        order = np.lexsort((key, kd, owner))
+        owner, key, kd = owner[order], key[order], kd[order]
+        new = np.r_[True, (owner[1:] != owner[:-1]) | (key[1:] != key[:-1])]
+        # (equal keys of one owner have equal distances, hence sit next to each other)
+        owner, key, kd = owner[new], key[new], kd[new]
+        own, fa, fb, rank, sol = _candidates(points, owner, key, kd, a, b, r, side)
+        dev = np.hypot(*(sol - points[own]).T)
+        good = np.isfinite(sol).all(axis=1) & (dev <= reach + tiny)
+        for f in (fa, fb):
+            good &= np.abs(_distance_to_feature(sol, a[f // 2], b[f // 2], f % 2) - r) <= 10 * tiny
+        own, fa, fb, rank, sol, dev = own[good], fa[good], fb[good], rank[good], sol[good], dev[good]
+        # Any edge nearer than r to a solution within w of its point is among the point's own edges; the
+        # others must at least clear those before the index is asked about the rest.
+        clear = _clear_of_listed(sol, own, dev, chk_start, dist, ei, a, b, limit, tiny)
+        own, fa, fb, rank, sol, dev = own[clear], fa[clear], fb[clear], rank[clear], sol[clear], dev[clear]
+        settled = dev <= w
+        # Nearest first; the clearance check runs a round at a time over each point's next candidate.
+        order = np.lexsort((rank, dev, own))
+        own, fa, fb, sol, settled = own[order], fa[order], fb[order], sol[order], settled[order]
+        first = np.flatnonzero(np.r_[True, own[1:] != own[:-1]]) if len(own) else np.zeros(0, np.int64)
+        pos = np.arange(len(own)) - np.repeat(first, np.diff(np.r_[first, len(own)]))
+        for j in range(int(pos.max()) + 1 if len(pos) else 0):
+            at = np.flatnonzero((pos == j) & ~exact[own])
+            if len(at) == 0:
+                continue
+            far = at[~settled[at]]
+            ok = np.concatenate([at[settled[at]], far[index.clear_of(sol[far], limit)]])
+            k = own[ok]
+            xy[k] = sol[ok]
+            feats[k] = np.column_stack([fa[ok], fb[ok]])
+            exact[k] = True
     return xy, feats, exact
 
 
@@ -548,9 +434,8 @@ def snap_to_centers(P, S, r: float, q: int, side: int):
     if len(pts) == 0:
         return P
     a, b, nxt = boundary_edges(S)
-    tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
     window, scale = _search_window(S, r, q)
-    xy, _, exact = _refine(pts, side, a, b, nxt, tree, r, window, scale)
+    xy, _, exact = _refine(pts, side, a, b, nxt, EdgeIndex(a, b, r), r, window, scale)
     return _move_vertices(P, pts[exact], xy[exact])
 
 
@@ -581,12 +466,12 @@ def _snap_vertices(P, centers: ArcCenters, side: int):
 
 def _arc_centers(S, r, E, G, q) -> ArcCenters:
     a, b, nxt = boundary_edges(S)
-    tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
+    index = EdgeIndex(a, b, r)
     window, scale = _search_window(S, r, q)
     out_xy, out_side, out_feat, out_exact, out_src = [], [], [], [], []
     for side, P, convex in ((1, E, True), (-1, G, False)):
         pts = _corner_vertices(P, convex) if not P.is_empty else np.zeros((0, 2))
-        xy, feats, exact = _refine(pts, side, a, b, nxt, tree, r, window, scale)
+        xy, feats, exact = _refine(pts, side, a, b, nxt, index, r, window, scale)
         out_src.append(pts)
         out_xy.append(xy)
         out_side.append(np.full(len(xy), side, dtype=np.int8))

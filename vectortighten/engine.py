@@ -36,6 +36,7 @@ from shapely.geometry import MultiPolygon, Polygon
 from . import _fast
 from . import morphology as _m
 from ._pieces import piece_distance
+from ._proximity import EdgeIndex, PointIndex
 from ._validation import check_radius, check_shape, check_tolerance, quad_segs_for
 from .centers import ArcCenters, _arc_centers, _snap_vertices
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
@@ -129,26 +130,30 @@ class _Context:
         self.S_boundary = self.S.boundary
         shapely.prepare(self.S_boundary)
         self.vertex_center = {(float(x), float(y)): i for i, (x, y) in enumerate(self.cxy.tolist())}
-        self.otree = shapely.STRtree(shapely.linestrings(self.oedges)) if len(self.oedges) else None
+        # The same centres and obstacle edges for the finish's grazing queries (see `_proximity`).
+        self.cindex = PointIndex(self.cxy)
+        self.oindex = EdgeIndex(self.oedges[:, 0], self.oedges[:, 1], r)
         self._R = None
         self._F = None
         self._domain = None
         self.violation_cache: dict = {}       # `_violations` outcomes by piece, for the exact finish
 
     # -- morphology, lazily ------------------------------------------------------------------------------
+    # The core and fillet here only guide the search for each loop's homotopy class: the free space is
+    # the mortar thickened by δ, far more than their chord error, and every contact of a finished loop is
+    # decided by the exact centres. So they are the plain buffers, not clipped to S and nudged to make
+    # ``R ⊆ S ⊆ F`` exact as the public `core` and `fillet` are (two overlays with S, which cost more
+    # than the rest of the morphology on a dense outline).
     @property
     def R(self):
         if self._R is None:
-            R = _m._polygonal(shapely.intersection(_m._grow_raw(self.E, self.r, self.q), self.S)) \
-                if not self.E.is_empty else Polygon()
-            self._R = _m._orient(_m._nudge(R, self.S, into=True))
+            self._R = _m._orient(_m._grow_raw(self.E, self.r, self.q)) if not self.E.is_empty else Polygon()
         return self._R
 
     @property
     def F(self):
         if self._F is None:
-            F = _m._polygonal(shapely.union(_m._shrink_raw(self.G, self.r, self.q), self.S))
-            self._F = _m._orient(_m._nudge(F, self.S, into=False))
+            self._F = _m._orient(_m._shrink_raw(self.G, self.r, self.q))
         return self._F
 
     # -- free space ----------------------------------------------------------------------------------------
@@ -393,15 +398,14 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
         entry[1].update(edges)
 
     if len(seg_ids):
-        segs = shapely.linestrings(np.stack([P[seg_ids], Q[seg_ids]], axis=1))
-        mid = 0.5 * (P[seg_ids] + Q[seg_ids])
-        if ctx.ctree is not None:
-            si, _ = ctx.ctree.query(segs, predicate="dwithin", distance=thr_c)
-            for i in np.unique(si):
-                flag(2 * int(seg_ids[i]) + 1, mid[i])
-        if ctx.otree is not None:
-            si, ei = ctx.otree.query(segs, predicate="dwithin", distance=thr_e)
-            keep = _real_entries(ctx, segs[si], ei)
+        sp, sq = P[seg_ids], Q[seg_ids]
+        mid = 0.5 * (sp + sq)
+        si, _ = ctx.cindex.near_segments(sp, sq, thr_c)
+        for i in np.unique(si):
+            flag(2 * int(seg_ids[i]) + 1, mid[i])
+        si, ei = ctx.oindex.near_segments(sp, sq, thr_e)
+        if len(si):
+            keep = _real_entries(ctx, shapely.linestrings(np.stack([sp[si], sq[si]], axis=1)), ei)
             for i, e in zip(si[keep].tolist(), ei[keep].tolist()):
                 flag(2 * int(seg_ids[i]) + 1, mid[i], (e,))
         inside_e = shapely.contains_xy(ctx.E, mid[:, 0], mid[:, 1]) if not ctx.E.is_empty \
@@ -417,15 +421,13 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
         frac = (np.arange(len(owner)) - first + 1) / np.repeat(m, m - 1)
         th = a0[owner] + L.sweep[owner] * frac
         pts = np.column_stack([L.c[owner, 0] + r * np.cos(th), L.c[owner, 1] + r * np.sin(th)])
-        geoms = shapely.points(pts)
-        if ctx.ctree is not None:
-            pi, ci = ctx.ctree.query(geoms, predicate="dwithin", distance=thr_c)
-            keep = ci != L.cid[owner[pi]]
-            for k in np.unique(pi[keep]):
-                flag(2 * int(owner[k]), pts[k])
-        if ctx.otree is not None:
-            pi, ei = ctx.otree.query(geoms, predicate="dwithin", distance=thr_e)
-            keep = _real_entries(ctx, geoms[pi], ei)
+        pi, ci = ctx.cindex.near_points(pts, thr_c)
+        keep = ci != L.cid[owner[pi]]
+        for k in np.unique(pi[keep]):
+            flag(2 * int(owner[k]), pts[k])
+        pi, ei, _ = ctx.oindex.near_points(pts, thr_e)
+        if len(pi):
+            keep = _real_entries(ctx, shapely.points(pts[pi]), ei)
             for k, e in zip(pi[keep].tolist(), ei[keep].tolist()):
                 flag(2 * int(owner[k]), pts[k], (e,))
     found: dict[int, tuple | None] = {}

@@ -542,4 +542,13 @@ def mason(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     out = shapely.union_all([R, *chosen])
     out = _polygonal(shapely.intersection(_polygonal(out), F))
     out = _polygonal(shapely.union(out, R))
-    return _orient(_nudge(out, R, into=False))
+    out = _nudge(out, R, into=False)
+    if not F.covers(out):
+        # Where the mortar has zero width the result's boundary runs along both R's and F's; a vertex of F
+        # a rounding error inside one of its edges then pokes into it. Snapping the result to F's vertices
+        # (within 1e-12 of the shape's size) puts that vertex on the edge.
+        x0, y0, x1, y1 = S.bounds
+        snapped = _polygonal(shapely.snap(out, F, 1e-12 * max(x1 - x0, y1 - y0)))
+        if snapped.is_valid and F.covers(snapped) and snapped.covers(R):
+            out = snapped
+    return _orient(out)
