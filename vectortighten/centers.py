@@ -349,26 +349,36 @@ def _refine(points, side, a, b, nxt, index: EdgeIndex, r, window, scale):
         for f in (fa, fb):
             good &= np.abs(_distance_to_feature(sol, a[f // 2], b[f // 2], f % 2) - r) <= 10 * tiny
         own, fa, fb, rank, sol, dev = own[good], fa[good], fb[good], rank[good], sol[good], dev[good]
-        # Any edge nearer than r to a solution within w of its point is among the point's own edges; the
-        # others must at least clear those before the index is asked about the rest.
-        clear = _clear_of_listed(sol, own, dev, chk_start, dist, ei, a, b, limit, tiny)
-        own, fa, fb, rank, sol, dev = own[clear], fa[clear], fb[clear], rank[clear], sol[clear], dev[clear]
-        settled = dev <= w
-        # Nearest first; the clearance check runs a round at a time over each point's next candidate.
+        # Nearest first, a round at a time over each unmatched point's next candidate. Any edge nearer than
+        # r to a solution within w of its point is among the point's own edges, so such a solution is
+        # settled by them; a farther one that clears them is then checked against all edges, all such at
+        # once, and where it fails the point's later candidates are tried.
         order = np.lexsort((rank, dev, own))
-        own, fa, fb, sol, settled = own[order], fa[order], fb[order], sol[order], settled[order]
+        own, fa, fb, sol, dev = own[order], fa[order], fb[order], sol[order], dev[order]
         first = np.flatnonzero(np.r_[True, own[1:] != own[:-1]]) if len(own) else np.zeros(0, np.int64)
         pos = np.arange(len(own)) - np.repeat(first, np.diff(np.r_[first, len(own)]))
-        for j in range(int(pos.max()) + 1 if len(pos) else 0):
-            at = np.flatnonzero((pos == j) & ~exact[own])
-            if len(at) == 0:
-                continue
-            far = at[~settled[at]]
-            ok = np.concatenate([at[settled[at]], far[index.clear_of(sol[far], limit)]])
+        alive = np.ones(len(own), dtype=bool)
+        while True:
+            pick = np.full(n, -1, dtype=np.int64)         # each point's first candidate clear of its edges
+            for j in range(int(pos.max()) + 1 if len(pos) else 0):
+                at = np.flatnonzero((pos == j) & alive & ~exact[own])
+                at = at[pick[own[at]] < 0]
+                if len(at) == 0:
+                    continue
+                listed = _clear_of_listed(sol[at], own[at], dev[at], chk_start, dist, ei, a, b, limit, tiny)
+                alive[at[~listed]] = False
+                pick[own[at[listed]]] = at[listed]
+            chosen = pick[pick >= 0]
+            far = chosen[dev[chosen] > w]
+            failed = far[~index.clear_of(sol[far], limit)]
+            alive[failed] = False
+            ok = np.setdiff1d(chosen, failed)
             k = own[ok]
             xy[k] = sol[ok]
             feats[k] = np.column_stack([fa[ok], fb[ok]])
             exact[k] = True
+            if len(failed) == 0:
+                break
     return xy, feats, exact
 
 
