@@ -1,21 +1,25 @@
 """Shortest paths and shortest closed curves in a polygonal domain, in a given homotopy class.
 
-The free space (a polygon with holes) is triangulated with shapely's constrained Delaunay triangulation.
-A closed curve in it is described by the sequence of triangle edges it crosses; cancelling immediate
-back-and-forth crossings (cyclically) leaves its *sleeve*, which determines its free homotopy class. The
-shortest curve in the class is found by the funnel algorithm (string pulling through the sleeve's portals)
-on the sleeve unrolled periodically: a closed geodesic must wrap at least one obstacle vertex; one is found
-on a multiply unrolled sleeve, then the funnel is run from that vertex to its next copy.
+The free space (a polygon with holes) is triangulated by ear clipping (earcut), or with shapely's
+constrained Delaunay triangulation where earcut's triangles do not conform to the boundary. A closed curve
+in it is described by the sequence of triangle edges it crosses; cancelling immediate back-and-forth
+crossings (cyclically) leaves its *sleeve*, which determines its free homotopy class. The shortest curve in
+the class is found by the funnel algorithm (string pulling through the sleeve's portals) on the sleeve
+unrolled periodically: a closed geodesic must wrap at least one obstacle vertex; one is found on a
+multiply unrolled sleeve, then the funnel is run from that vertex to its next copy.
 
-Implementation notes (speed). The triangulation's vertices are numbered by one sort of the domain's ring
-vertices (not of the triangles' corners), and its edge adjacency by one sort of packed edge keys. The walk
-along a polyline runs for all its segments at once in numpy: every vertex is located first (a grid guess,
-then a walk from the guessed triangle), every segment is walked from its start, and a segment whose guessed
-start is not where the walk of the previous segment ended is walked again, alone, from the right triangle.
-The floating-point predicates are evaluated with the same formulas, in the same order, as by a
-one-segment-at-a-time walk, so the crossings are exactly the sequential walk's. The funnel runs once over
-the events (a new left or right portal end point) of the portal sequence in a tight loop, and its first,
-three-period pass stops as soon as the corner it is looking for is known.
+Implementation notes (speed; the results are those of the plain sequential algorithms, bit for bit):
+
+* The triangulation's vertices are numbered by sorting the domain's ring vertices (not every triangle
+  corner), and its adjacency comes from one sort of packed undirected edge keys.
+* The walk along a polyline goes in chunks: every ``_CHUNK``-th point is located (the triangle of a nearby
+  boundary edge, found along a Z-order curve, then a short walk to the point), and the chunks between
+  located points are walked side by side in numpy, one step of every chunk per round, with the same
+  floating-point predicates in the same order as the one-walker walk. A chunk that does not start where
+  the previous one ended (a wrong guess) is walked again from there, so the crossings are exactly the
+  single walk's.
+* The funnel is a tight loop over flat lists of events (a new left or right portal end point); its first,
+  three-period pass stops as soon as the corner it is looking for is known.
 
 References
 ----------
@@ -177,7 +181,7 @@ def _restore_collinear(idx: np.ndarray, verts: np.ndarray, ends: np.ndarray) -> 
         return idx
     gaps = []                                  # (ring start, ring size, u, w, gap), in ring order
     starts = np.r_[0, ends[:-1]].astype(np.int64)
-    for s0, s1 in zip(starts.tolist(), np.asarray(ends).tolist()):
+    for s0, s1 in zip(starts.tolist(), np.asarray(ends).tolist(), strict=True):
         ring_used = used[s0:s1]
         if ring_used.all() or not ring_used.any():
             continue
@@ -272,11 +276,12 @@ def _twins(u: np.ndarray, v: np.ndarray) -> np.ndarray:
         return twin
     nv = int(max(u.max(), v.max())) + 1
     ukey = np.minimum(u, v) * nv + np.maximum(u, v)
-    if nv * nv * m < 2**62:
-        packed = ukey * m + np.arange(m)
+    bits = max(int(m - 1).bit_length(), 1)
+    if nv * nv < 2 ** (62 - bits):
+        packed = (ukey << bits) | np.arange(m)
         packed.sort()
-        keys = packed // m
-        slots = packed - keys * m
+        keys = packed >> bits
+        slots = packed & ((1 << bits) - 1)
     else:  # pragma: no cover - beyond about a million vertices
         slots = np.argsort(ukey, kind="stable")
         keys = ukey[slots]
@@ -311,28 +316,33 @@ def _build_indexed(verts: np.ndarray, idx: np.ndarray) -> tuple[Triangulation, n
         sel = np.flatnonzero(used)
         xy, vid[sel] = _unique_rows(verts[sel])
     tri = vid[idx]
-    p = xy[tri]
-    area2 = ((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
-             - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
-    keep = area2 != 0
-    tri, area2 = tri[keep], area2[keep]
+    X, Y = xy[:, 0], xy[:, 1]
+    x0, x1, x2 = X[tri[:, 0]], X[tri[:, 1]], X[tri[:, 2]]
+    y0, y1, y2 = Y[tri[:, 0]], Y[tri[:, 1]], Y[tri[:, 2]]
+    area2 = (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0)
+    if not area2.all():
+        keep = area2 != 0
+        tri, area2 = tri[keep], area2[keep]
     cw = area2 < 0
-    tri[cw] = tri[cw][:, ::-1]
+    if cw.any():
+        tri[cw] = tri[cw][:, ::-1]
     # Directed edges (u, v) of every triangle; the triangle lies on the left of its own directed edges.
     nt = len(tri)
     u = tri.reshape(-1)
-    v = tri[:, _NEXT].reshape(-1)
-    owner = np.repeat(np.arange(nt), 3)
+    v = np.empty_like(u)
+    v[0::3], v[1::3], v[2::3] = tri[:, 1], tri[:, 2], tri[:, 0]
     twin = _twins(u, v)
     interior = (twin >= 0) & (u < v)
-    ev = np.column_stack([u[interior], v[interior]])
-    et = np.column_stack([owner[interior], owner[twin[interior]]])
-    # Per triangle slot k (its edge from tri[t, k] to tri[t, k+1]): the neighbour across it (-1 on the
-    # boundary) and the interior edge's number.
-    has = twin >= 0
-    neighbors = np.where(has, owner[np.maximum(twin, 0)], -1).reshape(nt, 3)
-    eid = np.full(3 * nt, -1, dtype=np.int64)
     slots = np.flatnonzero(interior)
+    ev = np.empty((len(slots), 2), dtype=np.int64)
+    ev[:, 0], ev[:, 1] = u[slots], v[slots]
+    et = np.empty((len(slots), 2), dtype=np.int64)
+    et[:, 0], et[:, 1] = slots // 3, twin[slots] // 3
+    # Per triangle slot k (its edge from tri[t, k] to tri[t, k+1]): the neighbour across it (-1 on the
+    # boundary), the interior edge's number and the neighbour's slot of the same edge.
+    has = twin >= 0
+    neighbors = np.where(has, twin // 3, -1).reshape(nt, 3)
+    eid = np.full(3 * nt, -1, dtype=np.int64)
     eid[slots] = np.arange(len(slots))
     eid[twin[slots]] = np.arange(len(slots))
     entry = np.where(has, twin % 3, -1).reshape(nt, 3)
@@ -407,7 +417,8 @@ def triangulate(domain: Polygon | MultiPolygon) -> Triangulation:
 # ---------------------------------------------------------------------------------------------------------
 def _orient(a, b, c):
     """Twice the signed area of (a, b, c), vectorised over the leading axis."""
-    return (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])
+    return ((b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1])
+            - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0]))
 
 
 @dataclass
@@ -422,13 +433,15 @@ class _WalkData:
     entry: np.ndarray       # (nt, 3) the slot of the neighbour that is the same edge
     rule: np.ndarray        # (nt, 3) bool: a point on the slot's edge belongs to this triangle
     ev0: np.ndarray         # (ne,) first vertex of each interior edge
-    corner: tuple = ()      # the three columns of tri, contiguous
-    slot_rule: tuple = ()   # the three columns of rule, contiguous
+    cx: np.ndarray          # (3, nt) corner x of each triangle
+    cy: np.ndarray          # (3, nt) corner y
+    rule3: np.ndarray       # (3, nt) rule, slot by slot
     bbox: np.ndarray | None = None     # (4, nt): xmin, xmax, ymin, ymax, for exact point location
     guess: tuple | None = None         # boundary edges in Z-order, for `_boundary_guess`
 
 
 def _walk_data(T: Triangulation) -> _WalkData:
+    """The walks' arrays of a triangulation (made on first use, then kept on it)."""
     if T._walk is None:
         tri = np.asarray(T.tri, dtype=np.int64)
         nbr = np.asarray(T.neighbors, dtype=np.int64)
@@ -441,8 +454,9 @@ def _walk_data(T: Triangulation) -> _WalkData:
         T._walk = _WalkData(X=np.ascontiguousarray(T.xy[:, 0]), Y=np.ascontiguousarray(T.xy[:, 1]), tri=tri,
                             nbr=nbr, sedge=sedge, entry=np.asarray(entry, dtype=np.int64), rule=rule,
                             ev0=np.asarray(T.edge_vertices[:, 0], dtype=np.int64),
-                            corner=tuple(np.ascontiguousarray(tri[:, j]) for j in range(3)),
-                            slot_rule=tuple(np.ascontiguousarray(rule[:, j]) for j in range(3)))
+                            cx=np.ascontiguousarray(T.xy[:, 0][tri.T]),
+                            cy=np.ascontiguousarray(T.xy[:, 1][tri.T]),
+                            rule3=np.ascontiguousarray(rule.T))
     return T._walk
 
 
@@ -464,10 +478,11 @@ def _locate(T: Triangulation, p) -> int:
     """
     W = _walk_data(T)
     if W.bbox is None:
-        xs = [W.X[v] for v in W.corner]
-        ys = [W.Y[v] for v in W.corner]
-        W.bbox = np.stack([np.minimum(np.minimum(xs[0], xs[1]), xs[2]), np.maximum(np.maximum(xs[0], xs[1]), xs[2]),
-                           np.minimum(np.minimum(ys[0], ys[1]), ys[2]), np.maximum(np.maximum(ys[0], ys[1]), ys[2])])
+        xs, ys = W.cx, W.cy
+        W.bbox = np.stack([np.minimum(np.minimum(xs[0], xs[1]), xs[2]),
+                           np.maximum(np.maximum(xs[0], xs[1]), xs[2]),
+                           np.minimum(np.minimum(ys[0], ys[1]), ys[2]),
+                           np.maximum(np.maximum(ys[0], ys[1]), ys[2])])
     x, y = float(p[0]), float(p[1])
     b = W.bbox
     cand = np.flatnonzero((b[0] <= x) & (x <= b[1]) & (b[2] <= y) & (y <= b[3]))
@@ -585,26 +600,24 @@ def _lockstep(W: _WalkData, start: np.ndarray, first: np.ndarray, stop: np.ndarr
     se = np.asarray(stop, dtype=np.int64)[act]
     ns = np.zeros(len(act), dtype=np.int64)
     count = np.zeros(n, dtype=np.int64)
+    slot = np.arange(3)[:, None]
     recs: list[tuple] = []
     for _ in range(max_rounds):
         if len(act) == 0 or len(act) < min_active:
             break
+        # Rows are the triangles' corners (or slots) 0, 1, 2; columns the walkers.
         apx, apy, aqx, aqy = px[si], py[si], qx[si], qy[si]
-        dx = aqx - apx
-        dy = aqy - apy
-        V = [W.corner[0][ct], W.corner[1][ct], W.corner[2][ct]]
-        vx = [W.X[v] for v in V]
-        vy = [W.Y[v] for v in V]
+        vx = W.cx[:, ct]
+        vy = W.cy[:, ct]
         # Which side of the line p→q each corner lies on (a corner on the line counts as left).
-        sp = [(dx * (vy[j] - apy) - dy * (vx[j] - apx)) >= 0 for j in range(3)]
+        sp = ((aqx - apx) * (vy - apy) - (aqy - apy) * (vx - apx)) >= 0
         # Slot j may be the exit if q lies beyond its edge (on it: by the convention of `_locate`), the
         # edge straddles the line p→q, and it is not the slot the walker came in through.
-        cand = []
-        for j in range(3):
-            j1 = _NEXT[j]
-            oq = (vx[j1] - vx[j]) * (aqy - vy[j]) - (vy[j1] - vy[j]) * (aqx - vx[j])
-            stay = (oq > 0) | ((oq == 0) & W.slot_rule[j][ct])
-            cand.append(~stay & (sp[j] != sp[j1]) & (ce != j))
+        vx1 = vx[_NEXT]
+        vy1 = vy[_NEXT]
+        oq = (vx1 - vx) * (aqy - vy) - (vy1 - vy) * (aqx - vx)
+        stay = (oq > 0) | ((oq == 0) & W.rule3[:, ct])
+        cand = ~stay & (sp != sp[_NEXT]) & (slot != ce)
         moves = cand[0] | cand[1] | cand[2]
         k = np.where(cand[0], 0, np.where(cand[1], 1, 2))
         mv = np.flatnonzero(moves)
@@ -614,8 +627,10 @@ def _lockstep(W: _WalkData, start: np.ndarray, first: np.ndarray, stop: np.ndarr
         out = nb < 0
         if out.any():
             state[act[mv[out]]] = 2
-        inn = mv[~out]
-        tm, km, nb = tm[~out], km[~out], nb[~out]
+            inn = mv[~out]
+            tm, km, nb = tm[~out], km[~out], nb[~out]
+        else:
+            inn = mv
         if record and len(inn):
             e = W.sedge[tm, km]
             w = act[inn]
@@ -627,20 +642,22 @@ def _lockstep(W: _WalkData, start: np.ndarray, first: np.ndarray, stop: np.ndarr
         # Walkers whose segment ends here (or that hit the step cap of the one-walker walk) go on with
         # the next segment; a walker past its last segment is done.
         nxt = ~moves
-        nxt[inn[ns[inn] >= cap]] = True
+        if len(inn) and ns[inn].max() >= cap:
+            nxt[inn[ns[inn] >= cap]] = True
         si[nxt] += 1
         ce[nxt] = -1
         ns[nxt] = 0
         done = nxt & (si >= se)
-        end[act[done]] = ct[done]
-        state[act[done]] = 1
-        keep = ~done
-        keep[mv[out]] = False
-        act, ct, ce, si, se, ns = act[keep], ct[keep], ce[keep], si[keep], se[keep], ns[keep]
+        if done.any() or out.any():
+            end[act[done]] = ct[done]
+            state[act[done]] = 1
+            keep = ~done
+            keep[mv[out]] = False
+            act, ct, ce, si, se, ns = act[keep], ct[keep], ce[keep], si[keep], se[keep], ns[keep]
     rec = None
     if record:
         if recs:
-            rec = tuple(np.concatenate(col) for col in zip(*recs))
+            rec = tuple(np.concatenate(col) for col in zip(*recs, strict=True))
         else:
             z = np.zeros(0, dtype=np.int64)
             rec = (z, z, z, np.zeros(0, dtype=bool))
@@ -648,8 +665,10 @@ def _lockstep(W: _WalkData, start: np.ndarray, first: np.ndarray, stop: np.ndarr
 
 
 def _walk_py(W: _WalkData, t: int, entry: int, steps: int, i: int, stop: int, px, py, qx, qy):
-    """The one-walker walk: segments i … stop − 1 from triangle t (entry slot and steps taken in
-    segment i given), returning the crossed edges, their directions and the final triangle.
+    """The one-walker walk: crossed edges, their directions and the final triangle.
+
+    Walks segments i … stop − 1 from triangle t, given the slot it entered t through and the steps already
+    taken in segment i (−1 and 0 at the start of a segment).
 
     Raises
     ------
@@ -745,9 +764,8 @@ def crossings(T: Triangulation, ring: np.ndarray) -> tuple[np.ndarray, np.ndarra
     # Chunks start at the first point and at every located _CHUNK-th point.
     cand = np.arange(_CHUNK, n, _CHUNK)
     where = _locate_many(W, px[cand], py[cand], _LOCATE_MAX_STEPS)
-    found = where >= 0
-    first = np.r_[0, cand[found]]
-    start = np.r_[t0, where[found]]
+    first = np.r_[0, cand[where >= 0]]
+    start = np.r_[t0, where[where >= 0]]
     stop = np.r_[first[1:], n]
     nc = len(first)
     end, state, resume, (rw, rrank, redge, rleft) = _lockstep(
@@ -755,7 +773,7 @@ def crossings(T: Triangulation, ring: np.ndarray) -> tuple[np.ndarray, np.ndarra
         min_active=_LOCKSTEP_MIN_ACTIVE, record=True)
     count = np.bincount(rw, minlength=nc)
     extra: dict[int, tuple[list[int], list[bool]]] = {}
-    for c, t, e, s, ns in zip(*(a.tolist() for a in resume)):
+    for c, t, e, s, ns in zip(*(a.tolist() for a in resume), strict=True):
         try:
             es, ls, end[c] = _walk_py(W, t, e, ns, s, int(stop[c]), px, py, qx, qy)
         except ValueError:
@@ -806,7 +824,7 @@ def crossings(T: Triangulation, ring: np.ndarray) -> tuple[np.ndarray, np.ndarra
 
 
 def _reduce_codes(codes: np.ndarray) -> np.ndarray:
-    """Free reduction, then cyclic reduction, of a word whose letters are ``code`` with inverse ``code ^ 1``."""
+    """Free, then cyclic, reduction of a word of letters ``code`` (the inverse of c is ``c ^ 1``)."""
     stack: list[int] = []
     push, pop = stack.append, stack.pop
     for c in codes.tolist():
@@ -839,7 +857,7 @@ def reduce_cyclic(edges: np.ndarray, leftward: np.ndarray) -> list[tuple[int, bo
     """
     codes = 2 * np.asarray(edges, dtype=np.int64) + np.asarray(leftward, dtype=bool)
     red = _reduce_codes(codes)
-    return [(e, bool(lw)) for e, lw in zip((red >> 1).tolist(), (red & 1).tolist())]
+    return [(e, bool(lw)) for e, lw in zip((red >> 1).tolist(), (red & 1).tolist(), strict=True)]
 
 
 def sleeve(T: Triangulation, ring: np.ndarray) -> np.ndarray:
@@ -915,75 +933,100 @@ def _funnel(X: list, Y: list, ID: list, P: list, LEFT: list, m: int,
     apex = m + 1
     L: list[int] = []
     R: list[int] = []
-    lh = rh = 0
+    lh = rh = 0           # heads of the chains (items before them have become the apex)
+    nl = nr = 0           # live lengths of the chains
     out: list[int] = []
     for j in range(m + 1):
         tx = X[j]
         ty = Y[j]
         tid = ID[j]
         if LEFT[j]:
-            if tid >= 0 and ID[L[-1] if len(L) > lh else apex] == tid:
+            if tid >= 0 and ID[L[-1] if nl else apex] == tid:
                 continue
-            while len(L) > lh:
+            while nl:
                 b = L[-1]
-                a = L[-2] if len(L) - lh > 1 else apex
+                a = L[-2] if nl > 1 else apex
                 xa = X[a]
                 ya = Y[a]
                 if (X[b] - xa) * (ty - ya) - (Y[b] - ya) * (tx - xa) <= 0:
                     L.pop()
+                    nl -= 1
                 else:
                     break
-            if len(L) == lh:
+            if not nl:
                 L = []
                 lh = 0
-                while len(R) > rh:
+                xa = X[apex]
+                ya = Y[apex]
+                while nr:
                     c = R[rh]
-                    xa = X[apex]
-                    ya = Y[apex]
                     if (X[c] - xa) * (ty - ya) - (Y[c] - ya) * (tx - xa) <= 0:
                         out.append(c)
                         apex = c
                         rh += 1
+                        nr -= 1
+                        xa = X[c]
+                        ya = Y[c]
                         if stop is not None and P[c] >= stop:
                             return out, True
                     else:
                         break
             L.append(j)
+            nl += 1
         else:
-            if tid >= 0 and ID[R[-1] if len(R) > rh else apex] == tid:
+            if tid >= 0 and ID[R[-1] if nr else apex] == tid:
                 continue
-            while len(R) > rh:
+            while nr:
                 b = R[-1]
-                a = R[-2] if len(R) - rh > 1 else apex
+                a = R[-2] if nr > 1 else apex
                 xa = X[a]
                 ya = Y[a]
                 if (X[b] - xa) * (ty - ya) - (Y[b] - ya) * (tx - xa) >= 0:
                     R.pop()
+                    nr -= 1
                 else:
                     break
-            if len(R) == rh:
+            if not nr:
                 R = []
                 rh = 0
-                while len(L) > lh:
+                xa = X[apex]
+                ya = Y[apex]
+                while nl:
                     c = L[lh]
-                    xa = X[apex]
-                    ya = Y[apex]
                     if (X[c] - xa) * (ty - ya) - (Y[c] - ya) * (tx - xa) >= 0:
                         out.append(c)
                         apex = c
                         lh += 1
+                        nl -= 1
+                        xa = X[c]
+                        ya = Y[c]
                         if stop is not None and P[c] >= stop:
                             return out, True
                     else:
                         break
             R.append(j)
+            nr += 1
     out.extend(R[rh:-1])
     return out, False
 
 
-def _corners(P: list, LEFT: list, events: list[int]) -> list[tuple[int, int]]:
-    """``(portal index, side)`` of funnel corner events, without the start point."""
-    return [(P[c], 1 if LEFT[c] else -1) for c in events if P[c] >= 0]
+def _pull(left: np.ndarray, right: np.ndarray, left_id, right_id, start, start_id: int, end,
+          stop: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """`_funnel` on a portal sequence: the corners' portal indices and sides (+1 left, −1 right) as arrays.
+
+    The start point is not a corner; with ``stop``, only the corners up to the first one at portal index
+    ≥ ``stop`` (all of them if there is none).
+    """
+    ev = _funnel_events(left, right, left_id, right_id, start, start_id, end)
+    out, _ = _funnel(*ev, stop=stop)
+    if not out:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    _, _, _, P, LEFT, m = ev
+    o = np.array(out, dtype=np.int64)
+    portal = np.array(P, dtype=np.int64)[o]
+    side = np.where(np.array(LEFT, dtype=bool)[o], 1, -1)
+    keep = portal >= 0
+    return portal[keep], side[keep]
 
 
 def string_pull(start, end, left, right, left_id=None, right_id=None, start_id=-1):
@@ -1020,9 +1063,8 @@ def string_pull(start, end, left, right, left_id=None, right_id=None, start_id=-
     if left_id is None:
         _, inv = _unique_rows(np.vstack([left, right]))
         left_id, right_id = inv[:k], inv[k:]
-    ev = _funnel_events(left, right, left_id, right_id, start, start_id, end)
-    out, _ = _funnel(*ev)
-    return _corners(ev[3], ev[4], out)
+    portal, side = _pull(left, right, left_id, right_id, start, start_id, end)
+    return list(zip(portal.tolist(), side.tolist(), strict=True))
 
 
 @dataclass
@@ -1084,13 +1126,14 @@ def closed_geodesic(T: Triangulation, portals: np.ndarray, max_restarts: int = 8
     mid = 0.5 * (left[0] + right[0])
     # Portals 1..(3k−1) between the midpoint of portal 0 and its copy three periods on.
     seq = np.arange(1, periods * k) % k
-    ev = _funnel_events(left[seq], right[seq], portals[seq, 0], portals[seq, 1], mid, -1, mid)
-    out, _ = _funnel(*ev, stop=1.5 * k - 1)
-    corners = [(i + 1, s) for i, s in _corners(ev[3], ev[4], out)]
-    if not corners:
+    first, first_side = _pull(left[seq], right[seq], portals[seq, 0], portals[seq, 1], mid, -1, mid,
+                              stop=1.5 * k - 1)
+    if len(first) == 0:
         raise RuntimeError("closed geodesic wraps no vertex")
-    # Start from a corner in the middle period, and run the funnel from it to its next copy.
-    start = min(corners, key=lambda c: abs(c[0] - 1.5 * k))
+    # Start from the corner nearest the middle period (the first such), and run the funnel from it to its
+    # next copy.
+    c = int(np.argmin(np.abs((first + 1) - 1.5 * k)))
+    start = (int(first[c]) + 1, int(first_side[c]))
     tried = set()
     for _ in range(max_restarts):
         j, side = start
@@ -1099,20 +1142,21 @@ def closed_geodesic(T: Triangulation, portals: np.ndarray, max_restarts: int = 8
         vid = int(portals[j, 0 if side > 0 else 1])
         apex = T.xy[vid]
         idx = (np.arange(j + 1, j + k) % k)
-        ev = _funnel_events(left[idx], right[idx], portals[idx, 0], portals[idx, 1], apex, vid, apex)
-        out, _ = _funnel(*ev)
-        path = _corners(ev[3], ev[4], out)
-        path = [(i, sd) for i, sd in path if portals[idx[i], 0 if sd > 0 else 1] != vid]
-        ids = [vid] + [int(portals[idx[i], 0 if s > 0 else 1]) for i, s in path]
-        sides = [side] + [s for _, s in path]
-        xy = T.xy[np.array(ids)]
+        pi, sd = _pull(left[idx], right[idx], portals[idx, 0], portals[idx, 1], apex, vid, apex)
+        corner = np.where(sd > 0, portals[idx[pi], 0], portals[idx[pi], 1])
+        other = corner != vid
+        pi, sd, corner = pi[other], sd[other], corner[other]
+        ids = np.r_[vid, corner].astype(np.int64)
+        sides = np.r_[side, sd].astype(np.int64)
+        xy = T.xy[ids]
         if len(ids) == 1:
             # A single corner: the curve would be a point; only possible for degenerate input.
-            return ClosedGeodesic(np.array(ids), np.array(sides), xy)
+            return ClosedGeodesic(ids, sides, xy)
         if _corner_ok(xy[-1], xy[0], xy[1], side):
-            return ClosedGeodesic(np.array(ids), np.array(sides), xy)
+            return ClosedGeodesic(ids, sides, xy)
         # The start vertex is not on the closed geodesic; restart from a corner of this curve.
-        nxt = [((idx[i] % k), s) for i, s in path if ((idx[i] % k), s) not in tried]
+        nxt = [(int(idx[i]) % k, int(s)) for i, s in zip(pi.tolist(), sd.tolist(), strict=True)
+               if (int(idx[i]) % k, int(s)) not in tried]
         if not nxt:
             break
         start = nxt[len(nxt) // 2]
