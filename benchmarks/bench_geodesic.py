@@ -11,6 +11,9 @@ function is then timed on those inputs, the median of ``--repeats`` runs:
 * ``sleeve(T, ring)`` (crossings and their cyclic reduction), likewise;
 * ``closed_geodesic(T, portals)`` (the funnel).
 
+Times are the process's CPU time by default (``--clock cpu``; steadier than wall time on a shared machine,
+and the same on an idle one: all of this runs on one thread), or wall time with ``--clock wall``.
+
 With ``--baseline REV`` the same functions of ``vectortighten/geodesic.py`` at git revision REV are timed
 too, alternately with the current ones (the machines are noisy), and their outputs are checked to be
 identical (triangles, crossings, portals, geodesic vertices and sides).
@@ -95,22 +98,22 @@ def outputs(G, domain, ring) -> tuple:
     return (T.xy.tobytes(), T.tri.tobytes(), e.tolist(), lw.tolist(), P.tolist()) + geo
 
 
-def timings(G, domain, ring) -> dict[str, float]:
+def timings(G, domain, ring, clock=time.process_time) -> dict[str, float]:
     """One run of each function (seconds)."""
     out = {}
-    t0 = time.perf_counter()
+    t0 = clock()
     T = G.triangulate(domain)
-    out["triangulate"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    out["triangulate"] = clock() - t0
+    t0 = clock()
     G.crossings(T, ring)
-    out["crossings"] = time.perf_counter() - t0
+    out["crossings"] = clock() - t0
     T = G.triangulate(domain)
-    t0 = time.perf_counter()
+    t0 = clock()
     P = G.sleeve(T, ring)
-    out["sleeve"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    out["sleeve"] = clock() - t0
+    t0 = clock()
     G.closed_geodesic(T, P)
-    out["closed_geodesic"] = time.perf_counter() - t0
+    out["closed_geodesic"] = clock() - t0
     return out
 
 
@@ -124,8 +127,10 @@ def main(argv=None) -> int:
     parser.add_argument("--shapes", nargs="+", default=list(SHAPES))
     parser.add_argument("--baseline", metavar="REV",
                         help="also time vectortighten/geodesic.py at this git revision")
+    parser.add_argument("--clock", choices=["cpu", "wall"], default="cpu")
     parser.add_argument("--out", type=Path, default=HERE / "results" / "geodesic.md")
     args = parser.parse_args(argv)
+    clock = time.process_time if args.clock == "cpu" else time.perf_counter
     base = load_revision(args.baseline) if args.baseline else None
     mods = [("current", geodesic)] + ([(args.baseline, base)] if base else [])
     rows = []
@@ -141,7 +146,7 @@ def main(argv=None) -> int:
                 runs = {label: {f: [] for f in FUNCTIONS} for label, _ in mods}
                 for _ in range(args.repeats):           # alternate, so that both see the same machine load
                     for label, G in mods:
-                        for f, t in timings(G, domain, ring).items():
+                        for f, t in timings(G, domain, ring, clock).items():
                             runs[label][f].append(t)
                 T = geodesic.triangulate(domain)
                 row = {"shape": name, "n": n, "r": r, "domain": len(T.xy), "triangles": len(T.tri),
@@ -162,8 +167,9 @@ def main(argv=None) -> int:
         "# Geodesic module speed on the engine's inputs",
         "",
         f"Machine: {platform.machine()}, Python {platform.python_version()}, numpy {np.__version__}, shapely "
-        f"{shapely.__version__}. Medians of {args.repeats} runs, in ms. Command: `python "
+        f"{shapely.__version__}. Medians of {args.repeats} runs, {args.clock} time in ms. Command: `python "
         f"benchmarks/bench_geodesic.py --sizes {' '.join(map(str, args.sizes))} --repeats {args.repeats}"
+        f" --clock {args.clock}"
         + (f" --baseline {args.baseline}`" if base else "`") + ".",
         "",
     ]

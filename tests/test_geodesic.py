@@ -255,11 +255,25 @@ def test_funnel_stop_returns_a_prefix_up_to_the_first_corner_past_stop():
     seq = np.arange(1, 3 * k) % k
     left, right = T.xy[P[seq, 0]], T.xy[P[seq, 1]]
     mid = 0.5 * (T.xy[P[0, 0]] + T.xy[P[0, 1]])
-    full, full_side = G._pull(left, right, P[seq, 0], P[seq, 1], mid, -1, mid)
-    part, part_side = G._pull(left, right, P[seq, 0], P[seq, 1], mid, -1, mid, stop=1.5 * k - 1)
+    ev = G._funnel_events(left, right, P[seq, 0], P[seq, 1], mid, -1, mid)
+    full, full_side = G._corners(ev, G._funnel(ev))
+    part, part_side = G._corners(ev, G._funnel(ev, stop=1.5 * k - 1))
     assert np.array_equal(full[:len(part)], part) and np.array_equal(full_side[:len(part)], part_side)
     assert part[-1] >= 1.5 * k - 1 and (part[:-1] < 1.5 * k - 1).all()
     assert np.all(np.diff(full) >= 0)                               # corners come in portal order
+
+
+@pytest.mark.parametrize("s, count", [(1, 0), (1, 1), (0, 5), (3, 17), (7, 40), (2, 8)])
+def test_cyclic_events_are_the_events_of_the_rotated_sequence(s, count):
+    T = triangulate(box(0, 0, 10, 10).difference(Point(5, 5).buffer(2.0, quad_segs=2)))
+    P = sleeve(T, np.array([[1, 1], [9, 1], [9, 9], [1, 9], [1, 1]], float))
+    k = len(P)
+    assert k >= 8                                                   # some cases wrap around
+    idx = np.arange(s, s + count) % k
+    want = G._funnel_events(T.xy[P[idx, 0]], T.xy[P[idx, 1]], P[idx, 0], P[idx, 1], (0.5, 0.5), 3, (1.0, 2.0))
+    got = G._CyclicEvents(T.xy, P).run(s % k, count, (0.5, 0.5), 3, (1.0, 2.0))
+    assert (got.X, got.Y, got.ID, got.LEFT, got.m) == (want.X, want.Y, want.ID, want.LEFT, want.m)
+    assert np.array_equal(got.portal, want.portal)
 
 
 def test_closed_geodesic_around_a_triangle_is_its_perimeter_either_way():

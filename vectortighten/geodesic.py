@@ -890,46 +890,123 @@ def sleeve(T: Triangulation, ring: np.ndarray) -> np.ndarray:
 # ---------------------------------------------------------------------------------------------------------
 # The funnel algorithm
 # ---------------------------------------------------------------------------------------------------------
-def _funnel_events(left: np.ndarray, right: np.ndarray, left_id: np.ndarray, right_id: np.ndarray,
-                   start, start_id: int, end) -> tuple[list, list, list, list, list, int]:
-    """The funnel's input as flat lists: one event per new portal end point, then the end, then the start.
+@dataclass
+class _Events:
+    """The funnel's input: one event per new portal end point, then the end point, then the start point.
+
+    ``X, Y, ID, LEFT`` are lists (for the funnel's loop) of length ``m + 2``: the m events, the end (a
+    right event of id −2) and the start (id ``start_id``). ``portal`` is the portal index of each event.
+    """
+
+    X: list
+    Y: list
+    ID: list
+    LEFT: list
+    m: int
+    portal: np.ndarray
+
+
+def _event_flags(left_id: np.ndarray, right_id: np.ndarray, cyclic: bool) -> np.ndarray:
+    """``(k, 2)`` bool: whether portal i's left / right end point differs from portal i−1's.
+
+    Portal 0 is compared with portal k − 1 if ``cyclic``, else both its end points are new.
+    """
+    new = np.empty((len(left_id), 2), dtype=bool)
+    if len(left_id) == 0:
+        return new
+    new[1:, 0] = left_id[1:] != left_id[:-1]
+    new[1:, 1] = right_id[1:] != right_id[:-1]
+    if cyclic:
+        new[0, 0], new[0, 1] = left_id[0] != left_id[-1], right_id[0] != right_id[-1]
+    else:
+        new[0] = True
+    return new
+
+
+def _funnel_events(left: np.ndarray, right: np.ndarray, left_id, right_id, start, start_id: int,
+                   end) -> _Events:
+    """The events of a portal sequence.
 
     Portal i's left end point is an event if its id differs from portal i−1's (always for portal 0), and
-    likewise on the right; a portal's left event comes before its right one. Returns the lists x, y, id,
-    portal index and is-left of the events, with the end point appended (a right event of id −2 and
-    portal index k) and the start point after it (id ``start_id``, portal index −1), and the number of
-    events before the end.
+    likewise on the right; a portal's left event comes before its right one.
     """
-    k = len(left_id)
+    k = len(left)
     lid = np.asarray(left_id, dtype=np.int64)
     rid = np.asarray(right_id, dtype=np.int64)
-    new = np.ones((k, 2), dtype=bool)
-    new[1:, 0] = lid[1:] != lid[:-1]
-    new[1:, 1] = rid[1:] != rid[:-1]
-    mask = new.reshape(-1)
+    mask = _event_flags(lid, rid, cyclic=False).reshape(-1)
     xs = np.column_stack([left[:, 0], right[:, 0]]).reshape(-1)[mask]
     ys = np.column_stack([left[:, 1], right[:, 1]]).reshape(-1)[mask]
     ids = np.column_stack([lid, rid]).reshape(-1)[mask]
-    portal = np.repeat(np.arange(k), 2)[mask]
     is_left = np.tile(np.array([True, False]), k)[mask]
-    X = xs.tolist() + [float(end[0]), float(start[0])]
-    Y = ys.tolist() + [float(end[1]), float(start[1])]
-    ID = ids.tolist() + [-2, int(start_id)]
-    P = portal.tolist() + [k, -1]
-    LEFT = is_left.tolist() + [False, False]
-    return X, Y, ID, P, LEFT, len(xs)
+    return _Events(X=xs.tolist() + [float(end[0]), float(start[0])],
+                   Y=ys.tolist() + [float(end[1]), float(start[1])],
+                   ID=ids.tolist() + [-2, int(start_id)], LEFT=is_left.tolist() + [False, False],
+                   m=len(xs), portal=np.repeat(np.arange(k), 2)[mask])
 
 
-def _funnel(X: list, Y: list, ID: list, P: list, LEFT: list, m: int,
-            stop: float | None = None) -> tuple[list[int], bool]:
-    """Funnel algorithm over events from `_funnel_events`: the events that are corners of the path.
+class _CyclicEvents:
+    """The events of a cyclic portal sequence, made once.
+
+    The events of any run of portals (from any portal, over several periods) are then cut from them as
+    list slices, without making new Python objects.
+    """
+
+    def __init__(self, xy: np.ndarray, portals: np.ndarray):
+        self.k = k = len(portals)
+        self.portals = portals
+        self.xy = xy
+        lid, rid = portals[:, 0].astype(np.int64), portals[:, 1].astype(np.int64)
+        mask = _event_flags(lid, rid, cyclic=True).reshape(-1)
+        ends = np.column_stack([lid, rid]).reshape(-1)[mask]
+        self.X = xy[ends, 0].tolist()
+        self.Y = xy[ends, 1].tolist()
+        self.ID = ends.tolist()
+        self.LEFT = np.tile(np.array([True, False]), k)[mask].tolist()
+        self.portal = np.repeat(np.arange(k), 2)[mask]
+        self.first = np.searchsorted(self.portal, np.arange(k + 1))     # first event of each portal
+
+    def run(self, s: int, count: int, start, start_id: int, end) -> _Events:
+        """The events of portals s, s + 1, …, s + count − 1 (mod k), as `_funnel_events` makes them."""
+        X: list = []
+        Y: list = []
+        ID: list = []
+        LEFT: list = []
+        parts = []
+        if count > 0:
+            lv, rv = int(self.portals[s, 0]), int(self.portals[s, 1])
+            X += [float(self.xy[lv, 0]), float(self.xy[rv, 0])]    # portal s: both end points are new
+            Y += [float(self.xy[lv, 1]), float(self.xy[rv, 1])]
+            ID += [lv, rv]
+            LEFT += [True, False]
+            parts.append(np.zeros(2, dtype=np.int64))
+        cur, done = (s + 1) % self.k, 1            # the next portal, and its index in the run
+        while done < count:                        # the rest, period by period
+            stop = min(self.k, cur + count - done)
+            a, b = int(self.first[cur]), int(self.first[stop])
+            X += self.X[a:b]
+            Y += self.Y[a:b]
+            ID += self.ID[a:b]
+            LEFT += self.LEFT[a:b]
+            parts.append(self.portal[a:b] + (done - cur))
+            done += stop - cur
+            cur = stop % self.k
+        portal = np.concatenate(parts) if parts else np.zeros(0, dtype=np.int64)
+        return _Events(X=X + [float(end[0]), float(start[0])], Y=Y + [float(end[1]), float(start[1])],
+                       ID=ID + [-2, int(start_id)], LEFT=LEFT + [False, False], m=len(X), portal=portal)
+
+
+def _funnel(ev: _Events, stop: float | None = None) -> list[int]:
+    """Funnel algorithm over `_Events`: the events that are corners of the path, in order.
 
     The funnel is the apex and two chains (lists read from a head index outward); each event is added to
     its side's chain after popping the chain's end while it does not turn the right way, and when that
     empties the chain, the apex advances along the other chain while the new point is beyond it. With
     ``stop``, returns as soon as a corner of portal index ≥ ``stop`` is emitted (corners come out in
-    order of portal index), with the flag True.
+    order of portal index).
     """
+    X, Y, ID, LEFT, m = ev.X, ev.Y, ev.ID, ev.LEFT, ev.m
+    # Event indices increase with portal indices: a corner's portal is ≥ stop iff its index is ≥ cut.
+    cut = m + 2 if stop is None else int(np.searchsorted(ev.portal, stop))
     apex = m + 1
     L: list[int] = []
     R: list[int] = []
@@ -967,8 +1044,8 @@ def _funnel(X: list, Y: list, ID: list, P: list, LEFT: list, m: int,
                         nr -= 1
                         xa = X[c]
                         ya = Y[c]
-                        if stop is not None and P[c] >= stop:
-                            return out, True
+                        if c >= cut:
+                            return out
                     else:
                         break
             L.append(j)
@@ -1000,33 +1077,22 @@ def _funnel(X: list, Y: list, ID: list, P: list, LEFT: list, m: int,
                         nl -= 1
                         xa = X[c]
                         ya = Y[c]
-                        if stop is not None and P[c] >= stop:
-                            return out, True
+                        if c >= cut:
+                            return out
                     else:
                         break
             R.append(j)
             nr += 1
     out.extend(R[rh:-1])
-    return out, False
+    return out
 
 
-def _pull(left: np.ndarray, right: np.ndarray, left_id, right_id, start, start_id: int, end,
-          stop: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """`_funnel` on a portal sequence: the corners' portal indices and sides (+1 left, −1 right) as arrays.
-
-    The start point is not a corner; with ``stop``, only the corners up to the first one at portal index
-    ≥ ``stop`` (all of them if there is none).
-    """
-    ev = _funnel_events(left, right, left_id, right_id, start, start_id, end)
-    out, _ = _funnel(*ev, stop=stop)
-    if not out:
-        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    _, _, _, P, LEFT, m = ev
+def _corners(ev: _Events, out: list[int]) -> tuple[np.ndarray, np.ndarray]:
+    """Portal indices and sides (+1 left, −1 right) of the corner events ``out`` (the start excluded)."""
     o = np.array(out, dtype=np.int64)
-    portal = np.array(P, dtype=np.int64)[o]
-    side = np.where(np.array(LEFT, dtype=bool)[o], 1, -1)
-    keep = portal >= 0
-    return portal[keep], side[keep]
+    o = o[o < ev.m]
+    side = np.where(np.array(ev.LEFT, dtype=bool)[o], 1, -1) if len(o) else np.zeros(0, dtype=np.int64)
+    return ev.portal[o], side
 
 
 def string_pull(start, end, left, right, left_id=None, right_id=None, start_id=-1):
@@ -1063,7 +1129,8 @@ def string_pull(start, end, left, right, left_id=None, right_id=None, start_id=-
     if left_id is None:
         _, inv = _unique_rows(np.vstack([left, right]))
         left_id, right_id = inv[:k], inv[k:]
-    portal, side = _pull(left, right, left_id, right_id, start, start_id, end)
+    ev = _funnel_events(left, right, left_id, right_id, start, start_id, end)
+    portal, side = _corners(ev, _funnel(ev))
     return list(zip(portal.tolist(), side.tolist(), strict=True))
 
 
@@ -1120,14 +1187,12 @@ def closed_geodesic(T: Triangulation, portals: np.ndarray, max_restarts: int = 8
     if k == 0:
         return None
     portals = np.asarray(portals)
-    left = T.xy[portals[:, 0]]
-    right = T.xy[portals[:, 1]]
+    events = _CyclicEvents(T.xy, portals)
     periods = 3
-    mid = 0.5 * (left[0] + right[0])
+    mid = 0.5 * (T.xy[portals[0, 0]] + T.xy[portals[0, 1]])
     # Portals 1..(3k−1) between the midpoint of portal 0 and its copy three periods on.
-    seq = np.arange(1, periods * k) % k
-    first, first_side = _pull(left[seq], right[seq], portals[seq, 0], portals[seq, 1], mid, -1, mid,
-                              stop=1.5 * k - 1)
+    ev = events.run(1 % k, periods * k - 1, mid, -1, mid)
+    first, first_side = _corners(ev, _funnel(ev, stop=1.5 * k - 1))
     if len(first) == 0:
         raise RuntimeError("closed geodesic wraps no vertex")
     # Start from the corner nearest the middle period (the first such), and run the funnel from it to its
@@ -1142,7 +1207,8 @@ def closed_geodesic(T: Triangulation, portals: np.ndarray, max_restarts: int = 8
         vid = int(portals[j, 0 if side > 0 else 1])
         apex = T.xy[vid]
         idx = (np.arange(j + 1, j + k) % k)
-        pi, sd = _pull(left[idx], right[idx], portals[idx, 0], portals[idx, 1], apex, vid, apex)
+        ev = events.run((j + 1) % k, k - 1, apex, vid, apex)
+        pi, sd = _corners(ev, _funnel(ev))
         corner = np.where(sd > 0, portals[idx[pi], 0], portals[idx[pi], 1])
         other = corner != vid
         pi, sd, corner = pi[other], sd[other], corner[other]
