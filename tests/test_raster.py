@@ -147,7 +147,7 @@ def test_small_hole_fills_and_thin_bar_follows_the_exact_tightening():
         thickness = T.mask[40:60, 90:110].sum(axis=0)           # of the bar's middle, pixels
         assert (thickness >= 5).all() if keeps_bar else not thickness.any(), init
         contour = raster.contours(T, grid)
-        assert contour.boundary.hausdorff_distance(exact.geometry.boundary) < 1.0, init   # measured 0.82
+        assert contour.boundary.hausdorff_distance(exact.geometry.boundary) < 1.0, init   # measured 0.41–0.81
 
 
 @pytest.mark.parametrize("init", ["input", "mason"])
