@@ -16,7 +16,10 @@ and outside. The steps follow the paper:
   reaches the band's edge;
 * multiscale: the constraints are sampled every 2^k pixels for k = L−1, …, 0 where the coarsest pixel
   is still a little smaller than r/2 (the paper's five levels at r = 40 and six at r = 75); the flow
-  runs at the coarsest level, Φ is doubled in resolution by linear interpolation and flows again;
+  runs at the coarsest level, Φ is doubled in resolution by linear interpolation and flows again
+  (each finer level reaches the coarse result from its own initial set by simple pixels, without
+  pressing two fronts a pixel apart, and keeps its own Φ where that changed nothing; `_homotopic`,
+  `_reinitialise`);
 * at most ``iterations`` steps a level, and an early stop when the front rests: no pixel changes sign
   for `STOP_WINDOW` (50) steps and over those steps Φ near the front changes, net, by less than
   ``stop`` pixels a step.
@@ -294,6 +297,21 @@ def _simple_table() -> np.ndarray:
 _SIMPLE = _simple_table()
 
 
+def _bridge_table() -> np.ndarray:
+    """For each of the 256 rings: whether its set pixels fall into two or more 8-connected groups.
+
+    A pixel of one sign whose ring holds two separate groups of the other sign stands between two fronts
+    (of one part or of two) a pixel apart: a one-pixel moat between inside pixels, or a one-pixel wall
+    between outside ones. The same table serves both signs (with the ring's bits inverted for an inside
+    pixel), so the test commutes with complementing the image.
+    """
+    return np.array([_components_in_ring(tuple((code >> i) & 1 for i in range(8)), 8) >= 2
+                     for code in range(256)])
+
+
+_BRIDGE = _bridge_table()
+
+
 def _ring_codes(flat: np.ndarray, pos: np.ndarray, W: int) -> np.ndarray:
     """The 8-bit code of each pixel's ring (bit i: `_RING`'s i-th neighbour inside), the index into
     `_SIMPLE`. ``flat`` (row length W) is the inside set, or Φ (inside where negative); ``pos`` are flat
@@ -303,6 +321,43 @@ def _ring_codes(flat: np.ndarray, pos: np.ndarray, W: int) -> np.ndarray:
     if ring.dtype != bool:
         ring = ring < 0
     return (ring * (1 << np.arange(8))).sum(axis=1)
+
+
+#: Half the side of the window in which `_pressed` looks for the two fronts to meet, pixels.
+PRESS_REACH = 3
+
+
+def _pressed(inside: np.ndarray, where: np.ndarray | None = None) -> np.ndarray:
+    """Pixels that stand between two fronts a pixel apart, in an ``inside`` set (its one-pixel frame is
+    never marked: its ring runs off the array); only pixels of ``where`` are tested, if given.
+
+    A pixel is pressed when its ring holds two groups of the other sign (`_bridge_table`) that do not
+    meet within `PRESS_REACH` pixels of it: two parts (or two stretches of one part's front) facing each
+    other across a moat one pixel wide, or, for the other sign, two outside regions across a wall one
+    pixel thick. The groups either side of a spike shorter than `PRESS_REACH` (an upsampled remnant, say)
+    meet round its tip: that is one front folded, not two pressed together. The test commutes with
+    complementing the set.
+    """
+    out = np.zeros_like(inside)
+    H, W = inside.shape
+    if H < 3 or W < 3:
+        return out
+    code = np.zeros((H - 2, W - 2), dtype=np.intp)
+    for bit, (dr, dc) in enumerate(_RING):
+        code |= inside[1 + dr:H - 1 + dr, 1 + dc:W - 1 + dc].astype(np.intp) << bit
+    centre = inside[1:-1, 1:-1]
+    candidate = np.where(centre, _BRIDGE[255 - code], _BRIDGE[code])
+    if where is not None:
+        candidate &= where[1:-1, 1:-1]
+    eight = np.ones((3, 3), bool)
+    k = PRESS_REACH
+    for y, x in np.argwhere(candidate) + 1:
+        y0, x0 = max(y - k, 0), max(x - k, 0)
+        other = inside[y0:y + k + 1, x0:x + k + 1] != inside[y, x]
+        label, _ = ndimage.label(other, structure=eight)
+        groups = {label[y - y0 + dr, x - x0 + dc] for dr, dc in _RING} - {0}
+        out[y, x] = len(groups) >= 2
+    return out
 
 
 def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np.ndarray:
@@ -324,7 +379,18 @@ def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np
       and re-grows (or re-shrinks) what truly belongs (changes that are not 8-adjacent never see each
       other's pixels, so undoing one keeps every other flip simple).
 
-    The result has the start's topology up to vanished parts, and equals the target elsewhere.
+    Parts can also be pressed together without any flip being refused: where two parts (or two arms of
+    one) are apart on this grid but their samples touch on the coarse one, the coarse flow treats them as
+    one and fills the neck between them; reached by simple flips, that fill leaves the two fronts with a
+    moat one pixel wide, which no Φ on this grid can hold open (a front's staircase moves by half a pixel
+    as it settles, and a moat pixel that crosses joins the parts). Dually, a wall one pixel thick is left
+    between two outside regions where the coarse flow thinned a bar the continuous flow keeps. Such a
+    change is left to this level too: wherever the result has a pixel between two fronts a pixel apart
+    (`_pressed`) that the start does not have, the connected region of change around it keeps the
+    start's value.
+
+    The result has the start's topology up to vanished parts, presses no fronts together that the start
+    does not, and equals the target elsewhere.
     """
     s0 = np.pad(start, 1, mode="edge")
     cur = s0.copy()
@@ -369,6 +435,25 @@ def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np
     if stuck.any():
         change, _ = ndimage.label((s0 != tgt) & mov, structure=np.ones((3, 3), bool))
         undo = np.isin(change, np.unique(change[stuck]))
+        cur[undo] = s0[undo]
+    # Fronts pressed a pixel apart by the coarse level: undo each region of change within `PRESS_REACH` of
+    # such a pixel. A pixel farther than that from every change sees the start's window, and is pressed
+    # exactly when it was at the start; every round undoes at least one region, so the loop ends.
+    eight = np.ones((3, 3), bool)
+    reach = 2 * PRESS_REACH + 1
+    while True:
+        moved = cur != s0
+        pressed = _pressed(cur, ndimage.maximum_filter(moved, size=reach)) if moved.any() else moved
+        if pressed.any():
+            pressed &= ~_pressed(s0, pressed)
+        if not pressed.any():
+            break
+        change, _ = ndimage.label(moved & mov, structure=eight)
+        hit = np.unique(change[ndimage.maximum_filter(pressed, size=reach)])
+        hit = hit[hit > 0]
+        if hit.size == 0:
+            break
+        undo = np.isin(change, hit)
         cur[undo] = s0[undo]
     return cur[1:-1, 1:-1].copy()
 
@@ -464,6 +549,30 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
             else:
                 comp[pos], owner[pos] = owner[pos], comp[pos].copy()
     return P[1:-1, 1:-1].copy(), steps
+
+
+def _reinitialise(base: np.ndarray, inside: np.ndarray, movable: np.ndarray) -> np.ndarray:
+    """Φ for a level that starts from ``inside`` (the coarse result reached by `_homotopic`).
+
+    ``base`` is the level's own Φ: the signed distance to its initial set, and, with supersampling, to
+    where the fine mask puts that set's edge, a fraction of a pixel off the pixel centres. Where the
+    transfer changed the set, Φ in the mortar becomes the signed distance to the new front, so that the
+    narrow gaps the coarse level left between fronts get their true width in Φ. Everywhere else ``base``
+    is kept: a pixel whose distance to its front, plus a pixel, is less than its distance to every
+    changed pixel has that same front nearest, and ``base`` places it to a fraction of a pixel, where
+    the distance to the pixel staircase would move it up to half a pixel (enough for two fronts a pixel
+    apart to meet). Outside the mortar Φ is always ``base``.
+    """
+    changed = (inside != (base < 0)) & movable
+    if not changed.any():
+        return base.copy()
+    if inside.any() and not inside.all():
+        phi = signed_distance(inside)
+    else:
+        phi = np.where(inside, -0.5, 0.5).astype(np.float32)
+    reach = ndimage.distance_transform_edt(~changed)
+    redo = movable & (reach <= np.abs(base) + 1.0)
+    return np.where(redo, phi, base).astype(np.float32)
 
 
 def _check_supersample(k, shape: tuple[int, int]) -> int:
@@ -605,12 +714,7 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
             # pixels only, so that topology comes from this level (the full-resolution flow, free of the
             # topology check, merges and splits what truly meets or pinches off).
             inside = _homotopic(base < 0, target, mov_k)
-            # Reinitialise: in the mortar, Φ becomes the signed distance to that front, so that the narrow
-            # gaps the coarse level left between fronts get their true width in Φ.
-            if inside.any() and not inside.all():
-                phi_k = np.where(mov_k, signed_distance(inside), base).astype(np.float32)
-            else:
-                phi_k = np.where(mov_k, np.where(inside, -0.5, 0.5), base).astype(np.float32)
+            phi_k = _reinitialise(base, inside, mov_k)
         phi, n = _flow(phi_k, mov_k, iterations, stop, keep_topology=k > 0)
         counts.append(n)
         timings[f"flow level {k}"] = time.perf_counter() - t0

@@ -446,7 +446,8 @@ def test_compare_prints_table_and_plots(tmp_path, capsys):
 def test_compare_against_the_mask(tmp_path, capsys):
     src = tmp_path / "two.wkt"
     src.write_text("MULTIPOLYGON (((0 0, 6 0, 6 6, 0 6, 0 0)), ((6.015 0, 12 0, 12 6, 6.015 6, 6.015 0)))")
-    assert main(["compare", str(src), "-r", "1", "--pixel-size", "0.05", "--mask-reference"]) == 0
+    assert main(["compare", str(src), "-r", "1", "--pixel-size", "0.05", "--mask-reference",
+                 "--supersample", "1"]) == 0
     out = capsys.readouterr().out
     rows = dict(line.split("  ", 1) for line in out.splitlines())
     assert rows["agree"].strip().startswith("no") and rows["agree on the mask"].strip() == "yes"
@@ -464,6 +465,20 @@ def test_figures_command_one_figure(tmp_path, capsys):
     assert (tmp_path / "figs" / "fig2_round_fillet.png").stat().st_size > 1000
     assert main(["figures", "-o", str(tmp_path / "figs"), "--only", "fig99"]) == 2
     assert "unknown figure" in capsys.readouterr().err
+
+
+def test_compare_supersamples_five_times_by_default(tmp_path, capsys):
+    # A disk of radius 1.02·r: its shrink, 0.4 px across at r/20, holds no pixel centre of a plain
+    # rasterisation, and the pixel result loses the disk; five times finer it keeps it, as the exact one.
+    src = tmp_path / "disk.wkt"
+    src.write_text(shapely.Point(0.3, 0.1).buffer(1.02, quad_segs=64).wkt)
+    results = {}
+    for extra in ([], ["--supersample", "1"]):
+        assert main(["compare", str(src), "-r", "1", "--pixel-size", "0.05", *extra]) == 0
+        rows = dict(line.split("  ", 1) for line in capsys.readouterr().out.splitlines())
+        results[tuple(extra)] = (rows["raster: components, holes"].strip(), rows["agree"].strip()[:3])
+    assert results[()] == ("1, 0", "yes")
+    assert results[("--supersample", "1")] == ("0, 0", "no ")
 
 
 def test_compare_supersampled(tmp_path, capsys):

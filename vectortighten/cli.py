@@ -495,10 +495,10 @@ def _add_compare(sub) -> None:
     cmp_.add_argument("--iterations", type=_positive_int, default=1000, metavar="N",
                       help="most steps of the pixel flow per level; it stops once converged "
                            "(default 1000; the paper's budget is 100)")
-    cmp_.add_argument("--supersample", type=_odd_positive_int, default=1, metavar="K",
+    cmp_.add_argument("--supersample", type=_odd_positive_int, default=None, metavar="K",
                       help="rasterise IN K times finer (K odd) for the pixel method's core, fillet and start, "
-                           "and flow on the grid of P (default 1: the paper's method; 3 removes most of the "
-                           "rasterisation error at acute corners)")
+                           "and flow on the grid of P (default 5, which agrees best, at about five times "
+                           "the time of 1; 1 is the paper's method on a plain rasterisation)")
     cmp_.add_argument("--mask-reference", action="store_true",
                       help="also tighten the rasterised input exactly and compare the pixel result with it "
                            "(the flow's own error, without that of rasterising IN)")
@@ -514,9 +514,9 @@ def _cmd_compare(args) -> int:
         raise UsageError(f"{str(args.plot)!r}: the plot must be .png, .svg or .pdf")
     shape = io.read_shape(args.input)
     pixel = args.pixel_size or args.radius / 20
+    options = {} if args.supersample is None else {"supersample": args.supersample}
     check = crosscheck(shape, args.radius, pixel_size=pixel, init=args.init, levels=args.levels,
-                       iterations=args.iterations, mask_reference=args.mask_reference,
-                       supersample=args.supersample)
+                       iterations=args.iterations, mask_reference=args.mask_reference, **options)
     print(check.table())
     if args.plot is not None:
         plot_crosscheck(check, args.plot, S=shape)

@@ -163,7 +163,7 @@ def pixel_squares(mask: np.ndarray, grid):
 
 
 def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: int | None = None,
-               iterations: int = 1000, mask_reference: bool = False, supersample: int = 1) -> CrossCheck:
+               iterations: int = 1000, mask_reference: bool = False, supersample: int = 5) -> CrossCheck:
     """Tighten S exactly and on pixels, and compare the two on the same grid.
 
     The grid covers S's bounds grown by 2r plus two pixels, so nothing a tightening adds leaves it. S is
@@ -191,15 +191,26 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
         result with it (``mask_hausdorff_px``, ``mask_topology``): the pixel flow measured on the very
         input it was given, free of the error of rasterising S. Costs a second exact tightening, of a
         staircase with many corners.
-    supersample : int, odd
-        Rasterise S this many times finer and let `raster.tighten` compute its core, fillet and start
-        there (its ``supersample``); the flow and the comparison stay on the grid of ``pixel_size``. 1,
-        the default, is the paper's method on a plain rasterisation. The mask reference is then the
-        union of the fine mask's squares.
+    supersample : int, odd, ≥ 1
+        Rasterise S this many times finer (pixels of side ``pixel_size / supersample``, in S's units) and
+        let `raster.tighten` compute its core, fillet and start, and their signed distances, there (its
+        ``supersample``); the flow and the comparison stay on the grid of ``pixel_size``. The default, 5,
+        agrees best: on the project's 16 benchmark shapes at ``r / 20`` the two agree in 16/16 cases for
+        both ``init="core"`` and ``init="input"`` (3: 15/16, 1: 13/16), at about five times the time of
+        a plain rasterisation (3: about twice), nearly all of it the morphology on the fine grid. 1 is the
+        paper's method on a plain rasterisation, `raster.tighten`'s own default. With
+        ``mask_reference`` the reference is the union of the fine mask's squares.
 
     Returns
     -------
     CrossCheck
+
+    Raises
+    ------
+    ValueError
+        If ``pixel_size`` or ``r`` is not a positive finite number, ``supersample`` is not an odd whole
+        number ≥ 1, the grid would exceed 60 million pixels or the fine grid 200 million (use a larger
+        ``pixel_size`` or a smaller ``supersample``), or no pixel centre falls inside S.
 
     Examples
     --------
@@ -215,7 +226,6 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
     S = check_shape(S)
     r = check_radius(r)
     pixel_size = check_radius(pixel_size, "pixel_size")
-    T = tighten(S, r, init=init)
     margin = 2 * r + 2 * pixel_size
     grid = raster.Grid.covering(S.bounds, pixel_size, margin)
     if grid.shape[0] * grid.shape[1] > 60_000_000:
@@ -229,6 +239,7 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
     if fine.shape[0] * fine.shape[1] > 200_000_000:
         raise ValueError(f"supersample {supersample} makes a grid of {fine.shape[1]} × {fine.shape[0]} pixels; "
                          f"use a smaller one")
+    T = tighten(S, r, init=init)
     mask, _ = raster.rasterize(S, fine)
     if not mask.any():
         raise ValueError(f"pixel_size {pixel_size:g} is too coarse: no pixel centre falls inside S")
