@@ -19,7 +19,7 @@ from scipy.spatial import cKDTree
 __all__: list[str] = []
 
 #: Edges with half-length above this fraction of r are searched with an R-tree, not a k-d tree.
-_LONG_HALF_R = 0.01
+_LONG_HALF_R = 1.0
 
 
 def _tree(points: np.ndarray) -> cKDTree:
@@ -47,6 +47,18 @@ def segment_segment_distance(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.
                               point_segment_distance(a, p, q), point_segment_distance(b, p, q)])
     cross = (orient(p, q, a) * orient(p, q, b) < 0) & (orient(a, b, p) * orient(a, b, q) < 0)
     return np.where(cross, 0.0, dist)
+
+
+def _beyond_line(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray, dist: float) -> np.ndarray:
+    """Rows where the segment ``p[i]q[i]`` lies wholly on one side of the line through ``a[i]b[i]``,
+    farther than ``dist`` from it, and so farther than ``dist`` from that edge too (a cheap first test:
+    in a grazing query most edges face the query from about r away)."""
+    d = b - a
+    L = np.hypot(d[:, 0], d[:, 1])
+    sp = d[:, 0] * (p[:, 1] - a[:, 1]) - d[:, 1] * (p[:, 0] - a[:, 0])
+    sq = d[:, 0] * (q[:, 1] - a[:, 1]) - d[:, 1] * (q[:, 0] - a[:, 0])
+    reach = dist * L
+    return ((sp > reach) & (sq > reach)) | ((sp < -reach) & (sq < -reach))
 
 
 def _length_classes(half: np.ndarray, pick: np.ndarray) -> list[np.ndarray]:
@@ -98,17 +110,93 @@ class EdgeIndex:
         if not P:
             return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0)
         pi, ei = np.concatenate(P), np.concatenate(E)
+        far = _beyond_line(x[pi], x[pi], self.a[ei], self.b[ei], dist)
+        pi, ei = pi[~far], ei[~far]
         d = point_segment_distance(x[pi], self.a[ei], self.b[ei])
         keep = d <= dist
         pi, ei, d = pi[keep], ei[keep], d[keep]
         order = np.lexsort((d, pi))
         return pi[order], ei[order], d[order]
 
+    def nearest(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The nearest edge to each point and its distance, exactly: ``(edge, distance)``.
+
+        Each length class offers the edges of its eight nearest midpoints; a point for which some class
+        could still hide a nearer edge (its eighth midpoint is not far enough) is settled by a ball search.
+        """
+        best = np.full(len(x), np.inf)
+        edge = np.full(len(x), -1, dtype=np.int64)
+        doubt = np.zeros(len(x), dtype=bool)
+        for ids, half, kd in self.classes:
+            k = min(8, len(ids))
+            dm, j = kd.query(x, k=k)
+            dm, j = dm.reshape(len(x), k), j.reshape(len(x), k)
+            e = ids[j]
+            d = point_segment_distance(np.repeat(x, k, axis=0), self.a[e.ravel()], self.b[e.ravel()])
+            d = d.reshape(len(x), k)
+            col = np.argmin(d, axis=1)
+            dmin = d[np.arange(len(x)), col]
+            better = dmin < best
+            best[better] = dmin[better]
+            edge[better] = e[np.arange(len(x)), col][better]
+            if k < len(ids):
+                doubt |= dm[:, -1] - half < best
+        if self.rtree is not None and len(x):
+            pi, ei = self.rtree.query_nearest(shapely.points(x), all_matches=False)
+            e = self.long[ei]
+            d = point_segment_distance(x[pi], self.a[e], self.b[e])
+            better = d < best[pi]
+            best[pi[better]] = d[better]
+            edge[pi[better]] = e[better]
+        doubt = np.flatnonzero(doubt)
+        if len(doubt):
+            pi, ei, d = self.near_points(x[doubt], float(best[doubt].max()))
+            first = np.r_[True, pi[1:] != pi[:-1]] if len(pi) else np.zeros(0, bool)
+            pi, ei, d = pi[first], ei[first], d[first]          # sorted by point, then by distance
+            better = d < best[doubt[pi]]
+            best[doubt[pi[better]]] = d[better]
+            edge[doubt[pi[better]]] = ei[better]
+        return edge, best
+
+    def nearby_distance(self, x: np.ndarray) -> np.ndarray:
+        """For each point, the distance to some edge near it, at most ``2·half`` more than the distance to
+        the nearest edge (the edge of the nearest midpoint of each length class): an upper bound that
+        is cheap to get, for sizing a search."""
+        out = np.full(len(x), np.inf)
+        for ids, _, kd in self.classes:
+            _, j = kd.query(x, k=1)
+            out = np.minimum(out, point_segment_distance(x, self.a[ids[j]], self.b[ids[j]]))
+        if self.rtree is not None and len(x):
+            pi, ei = self.rtree.query_nearest(shapely.points(x), all_matches=False)
+            e = self.long[ei]
+            np.minimum.at(out, pi, point_segment_distance(x[pi], self.a[e], self.b[e]))
+        return out
+
     def clear_of(self, x: np.ndarray, dist: float) -> np.ndarray:
-        """Whether each point of ``x`` is at distance ≥ ``dist`` from every edge."""
-        pi, _, d = self.near_points(x, dist)
+        """Whether each point of ``x`` is at distance ≥ ``dist`` from every edge.
+
+        A point with an edge nearer than ``dist`` among the edges of its few nearest midpoints is settled
+        at once; only the others need the full search.
+        """
         ok = np.ones(len(x), dtype=bool)
-        ok[pi[d < dist]] = False
+        open_ = np.arange(len(x))
+        for ids, half, kd in self.classes:
+            if len(open_) == 0:
+                break
+            k = min(4, len(ids))
+            _, j = kd.query(x[open_], k=k, distance_upper_bound=dist + half)
+            j = j.reshape(len(open_), k)
+            found = j < len(ids)
+            rows, cols = np.nonzero(found)
+            e = ids[j[rows, cols]]
+            near = point_segment_distance(x[open_[rows]], self.a[e], self.b[e]) < dist
+            hit = np.zeros(len(open_), dtype=bool)
+            hit[rows[near]] = True
+            ok[open_[hit]] = False
+            open_ = open_[~hit]
+        if len(open_):
+            pi, _, d = self.near_points(x[open_], dist)
+            ok[open_[pi[d < dist]]] = False
         return ok
 
     def near_segments(self, p: np.ndarray, q: np.ndarray, dist: float) -> tuple[np.ndarray, np.ndarray]:
@@ -131,6 +219,8 @@ class EdgeIndex:
             S.append(si)
             E.append(self.long[ei])
         si, ei = np.concatenate(S), np.concatenate(E)
+        far = _beyond_line(p[si], q[si], self.a[ei], self.b[ei], dist)
+        si, ei = si[~far], ei[~far]
         keep = segment_segment_distance(p[si], q[si], self.a[ei], self.b[ei]) <= dist
         si, ei = si[keep], ei[keep]
         order = np.lexsort((ei, si))

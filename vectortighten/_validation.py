@@ -85,7 +85,8 @@ def check_shape(S, name: str = "S", *, allow_empty: bool = False) -> Polygon | M
     # them, sparing every edge loop a zero or subnormal length.
     x0, y0, x1, y1 = S.bounds
     merged = shapely.remove_repeated_points(S, 1e-12 * max(x1 - x0, y1 - y0))
-    if merged.is_valid and not merged.is_empty:
+    if shapely.get_num_coordinates(merged) != shapely.get_num_coordinates(S) and merged.is_valid \
+            and not merged.is_empty:
         S = merged
     return shapely.orient_polygons(S, exterior_cw=False)
 

@@ -15,12 +15,13 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
+from scipy.spatial import cKDTree
 from shapely.geometry import LineString, MultiPolygon, Point, Polygon
 
 from ._proximity import EdgeIndex, point_segment_distance
 from ._validation import check_radius, check_shape, check_tolerance, quad_segs_for
 from .curves import Side
-from .tolerances import ANGLE_ZERO, CENTER_SEARCH_R, ZERO_SCALE
+from .tolerances import ANGLE_ZERO, CENTER_SEARCH_R, PENETRATION_R, ZERO_SCALE
 
 __all__ = ["ArcCenters", "arc_centers", "boundary_edges", "snap_to_centers"]
 
@@ -63,7 +64,8 @@ class ArcCenters:
     exact : (n,) bool
         True where the centre was solved exactly from its two features.
     source : (n, 2) float
-        The vertex of the buffered polygon each centre was refined from.
+        The vertex of the buffered polygon each centre was refined from; NaN for a centre that the buffer
+        lost (GEOS simplifies a buffer's input) and that was found along the stretch it smoothed over.
     edge_start, edge_end : (m, 2) float
         The edges of S that the feature numbers refer to.
     r : float
@@ -266,6 +268,7 @@ def _clear_of_listed(xy, owner, dev, chk_start, chk_dist, chk_edge, a, b, limit,
     return low >= limit
 
 
+_LONE_R = 0.1                         # a recovered centre this near (× r) to a found one is left out
 _PAIR_FEATURES = 6                    # the features nearest to a point among which pairs are solved
 
 
@@ -300,15 +303,15 @@ def _candidates(points, owner, key, kd, a, b, r, side):
     return OWN[row], FA[row], FB[row], 2 * ORD[row] + k, xy
 
 
-def _refine(points, side, a, b, nxt, index: EdgeIndex, r, window, scale):
+def _refine(points, side, a, b, nxt, index: EdgeIndex, r, window, scale, reach=None):
     """Exact centres near the approximate ``points`` (one side); returns xy, features, exact flags.
 
     Each point is matched with the features of S (edge lines, vertices) within ``r + w`` of it, and every
     pair among the nearest few is solved exactly. A solution counts when it lies at distance r from both
     its features and no nearer than r to any edge of S; the one nearest to the point is kept, provided it
-    is within ``300·window`` of it (GEOS's buffers may misplace a vertex by up to a hundredth of r where
-    they simplify their input, and where two offset arcs cross at a shallow angle a chord moves the
-    crossing far along them). The band widens (×10, ×100, ×300) for points still unmatched: an edge's
+    is within ``reach`` of it (default ``300·window``: GEOS's buffers may misplace a vertex by up to a
+    hundredth of r where they simplify their input, and where two offset arcs cross at a shallow angle a
+    chord moves the crossing far along them). The band widens (×10, ×100, ×300) for points still unmatched: an edge's
     line is offered only where the point's foot falls within ``w`` of the edge.
     """
     n = len(points)
@@ -319,7 +322,7 @@ def _refine(points, side, a, b, nxt, index: EdgeIndex, r, window, scale):
         return xy, feats, exact
     tiny = ZERO_SCALE * scale
     limit = r * (1 - 1e-9) - tiny
-    reach = 300 * window
+    reach = 300 * window if reach is None else reach
     for w in (window, 10 * window, 100 * window, 300 * window):
         todo = np.flatnonzero(~exact)
         if len(todo) == 0:
@@ -470,23 +473,106 @@ def _move_vertices(P, src: np.ndarray, dst: np.ndarray):
 
 def _snap_vertices(P, centers: ArcCenters, side: int):
     """``P`` with each vertex that a centre of ``side`` was refined from moved onto that exact centre."""
-    pick = (centers.side == side) & centers.exact
+    pick = (centers.side == side) & centers.exact & np.isfinite(centers.source).all(axis=1)
     return _move_vertices(P, centers.source[pick], centers.xy[pick]) if not P.is_empty else P
+
+
+def _inside(S, xy: np.ndarray) -> np.ndarray:
+    """Whether each point lies in S."""
+    return shapely.contains_xy(S, xy[:, 0], xy[:, 1]) if len(xy) else np.zeros(0, dtype=bool)
+
+
+def _nearest_keys(x, a, b, nxt, index: EdgeIndex) -> np.ndarray:
+    """The feature of S nearest to each point, as a key: an edge's line where the point's foot falls
+    inside the edge, else the vertex at the end it falls beyond."""
+    e, _ = index.nearest(x)
+    d = b[e] - a[e]
+    t = np.einsum("ij,ij->i", x - a[e], d) / np.einsum("ij,ij->i", d, d)
+    return np.where(t <= 0.0, 2 * e + 1, np.where(t >= 1.0, 2 * nxt[e] + 1, 2 * e))
+
+
+def _missed_centres(P, S_rings, side, a, b, nxt, index: EdgeIndex, r, window, scale, excess_min):
+    """Exact centres that the buffer ``P`` (the shrink for side +1, the grow for −1) lost: ``(xy, features,
+    source)``.
+
+    GEOS simplifies a buffer's input (by up to r/100, and differently for the two ring orientations):
+    a ledge or notch narrower than that, a stretch of pixel staircase, is smoothed over, and the vertices
+    of ``P`` it makes, with the arc centres there, never appear. Every point of the exact boundary of
+    ``P`` is at distance exactly r from S; a chord of one of its arcs lies nearer, an offset edge at r.
+    An edge of ``P`` whose midpoint lies farther than ``r + excess_min`` from S is therefore the offset of
+    a smoothed stretch (a lost centre less deep than that is within the engine's penetration allowance).
+
+    Along such an edge the exact boundary runs within the edge's excess, and its vertices are where the
+    feature of S nearest to it changes. So the edge is sampled finely (a quarter of S's typical edge, at
+    most r/20 apart), the nearest feature of every sample is found, and each pair of different features
+    at consecutive samples is solved exactly; the solutions clear of every feature of S by r are
+    returned. Their ``source`` is NaN (no vertex of ``P`` stands for them).
+    """
+    empty = np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64), np.zeros((0, 2))
+    if P.is_empty or len(a) == 0:
+        return empty
+    tiny = ZERO_SCALE * scale
+    starts, ends = [], []
+    for ring in shapely.get_rings(shapely.get_parts(P)):
+        c = shapely.get_coordinates(ring)
+        starts.append(c[:-1])
+        ends.append(c[1:])
+    p0, p1 = np.concatenate(starts), np.concatenate(ends)
+    far = index.clear_of(0.5 * (p0 + p1), r + excess_min + tiny)
+    if not far.any():
+        return empty
+    p0, p1 = p0[far], p1[far]
+    length = np.hypot(*(p1 - p0).T)
+    step = min(0.05 * r, 0.25 * float(np.median(np.hypot(*(b - a).T))))
+    k = np.maximum(1, np.ceil(length / step).astype(np.int64))
+    owner = np.repeat(np.arange(len(p0)), k + 1)
+    frac = (np.arange(len(owner)) - np.repeat(np.cumsum(k + 1) - (k + 1), k + 1)) / np.repeat(k, k + 1)
+    pts = p0[owner] + frac[:, None] * (p1 - p0)[owner]
+    key = _nearest_keys(pts, a, b, nxt, index)
+    change = np.flatnonzero((owner[1:] == owner[:-1]) & (key[1:] != key[:-1]))
+    fa, fb = key[change], key[change + 1]
+    ok = ~((fa // 2 == fb // 2) & (fa % 2 != fb % 2))          # not an edge's line with its own start
+    change, fa, fb = change[ok], fa[ok], fb[ok]
+    if len(change) == 0:
+        return empty
+    near = 0.5 * (pts[change] + pts[change + 1])
+    row, _, sol = _solve_pairs(near, fa, fb, a, b, r, side)
+    fa, fb, near = fa[row], fb[row], near[row]
+    dev = np.hypot(*(sol - near).T)
+    good = np.isfinite(sol).all(axis=1) & (dev <= 0.05 * r)
+    for f in (fa, fb):
+        good &= np.abs(_distance_to_feature(sol, a[f // 2], b[f // 2], f % 2) - r) <= 10 * tiny
+    sol, fa, fb = sol[good], fa[good], fb[good]
+    # A point clear of S's boundary by r lies inside S (a centre of the core) or outside it (of the
+    # anticore): keep those on this side.
+    keep = index.clear_of(sol, r * (1 - 1e-9) - tiny)
+    keep[keep] = _inside(S_rings, sol[keep]) == (side > 0)
+    sol, feats = sol[keep], np.column_stack([fa, fb])[keep]
+    return sol, feats, np.full((len(sol), 2), np.nan)
 
 
 def _arc_centers(S, r, E, G, q) -> ArcCenters:
     a, b, nxt = boundary_edges(S)
     index = EdgeIndex(a, b, r)
     window, scale = _search_window(S, r, q)
+    excess_min = 2.0 * r * (1.0 - math.cos(math.pi / (4 * q))) + PENETRATION_R * r
     out_xy, out_side, out_feat, out_exact, out_src = [], [], [], [], []
     for side, P, convex in ((1, E, True), (-1, G, False)):
         pts = _corner_vertices(P, convex) if not P.is_empty else np.zeros((0, 2))
         xy, feats, exact = _refine(pts, side, a, b, nxt, index, r, window, scale)
-        out_src.append(pts)
-        out_xy.append(xy)
-        out_side.append(np.full(len(xy), side, dtype=np.int8))
-        out_feat.append(feats)
-        out_exact.append(exact)
+        mxy, mfeats, msrc = _missed_centres(P, S, side, a, b, nxt, index, r, window, scale, excess_min)
+        if len(mxy) and exact.any():
+            # A lost centre within r/10 of one found already is left out: the exact finish inserts disks
+            # one at a time and does not settle among disks that close (a loop wound round one of them
+            # on a 30k-vertex pixel staircase). See the README's limitations.
+            d, _ = cKDTree(xy[exact]).query(mxy)
+            lone = d > _LONE_R * r
+            mxy, mfeats, msrc = mxy[lone], mfeats[lone], msrc[lone]
+        out_src += [pts, msrc]
+        out_xy += [xy, mxy]
+        out_side += [np.full(len(xy), side, dtype=np.int8), np.full(len(mxy), side, dtype=np.int8)]
+        out_feat += [feats, mfeats]
+        out_exact += [exact, np.ones(len(mxy), dtype=bool)]
     return ArcCenters(
         xy=np.concatenate(out_xy),
         side=np.concatenate(out_side),
