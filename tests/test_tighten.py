@@ -328,6 +328,24 @@ def test_pixel_staircase_outline(n, r):
     assert all(piece.sweep != 0.0 for loop in T.loops for piece in loop.pieces if isinstance(piece, vt.Arc))
 
 
+def test_dense_pixel_staircase_settles():
+    """A 50k-vertex traced outline, r = 1250 pixel sides. Regression: two buffer vertices refined to one
+    arc centre and the shrink, its vertices moved onto the centres, folded into a spike and an invalid
+    ring; a loop piece that never came within r of any centre was then read as entering the core, and
+    the exact finish cycled (``converged`` False, and verify() said the loop entered the core)."""
+    S = pixel_outline(50_000)
+    T = vt.tighten(S, 0.6)
+    assert T.converged and T.verify() == []
+
+
+def test_snapped_vertices_leave_no_spike():
+    # Two vertices of a ring that refine to one centre leave the vertex between them as a spike.
+    P = Polygon([(0, 0), (4, 0), (4, 1), (2.0, 1.0), (2.05, 1.2), (2.1, 1.0), (0, 1)])
+    moved = vt.centers._move_vertices(P, np.array([[2.0, 1.0], [2.1, 1.0]]), np.array([[2.0, 1.0], [2.0, 1.0]]))
+    assert moved.is_valid and moved.area == pytest.approx(4.0)
+    assert len(shapely.get_coordinates(moved)) == 6             # the spike and the copy are gone
+
+
 def test_loop_touching_itself_is_split():
     """A thin crescent ring cut by a slit: tightened from the input, its one loop presses against itself
     across the thin side (the paper's Figure 7 (a, b)); surgery splits it into two loops, the same two

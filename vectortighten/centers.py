@@ -453,7 +453,12 @@ def snap_to_centers(P, S, r: float, q: int, side: int):
 
 
 def _move_vertices(P, src: np.ndarray, dst: np.ndarray):
-    """P with every vertex equal to a row of ``src`` moved to the matching row of ``dst``."""
+    """P with every vertex equal to a row of ``src`` moved to the matching row of ``dst``.
+
+    Two vertices can move onto one point (GEOS places two crossings where S has one medial-axis vertex,
+    and both refine to it): the repeated point is kept once, and a vertex between two copies of one
+    point (a spike of zero area) is removed, so that the result stays a valid polygon.
+    """
     if len(src) == 0:
         return P
     key = src[:, 0] + 1j * src[:, 1]
@@ -468,7 +473,37 @@ def _move_vertices(P, src: np.ndarray, dst: np.ndarray):
         out[hit] = dst[j[hit]]
         return out
 
-    return shapely.transform(P, move)
+    moved = shapely.transform(P, move)
+    if moved.is_valid:
+        return moved
+    polys = []
+    for part in shapely.get_parts(moved):
+        rings = [_without_spikes(shapely.get_coordinates(ring)[:-1]) for ring in shapely.get_rings(part)]
+        if len(rings[0]) >= 3:
+            polys.append(Polygon(rings[0], [h for h in rings[1:] if len(h) >= 3]))
+    out = polys[0] if len(polys) == 1 else MultiPolygon(polys) if polys else Polygon()
+    if not out.is_valid:
+        from .morphology import _polygonal
+
+        out = _polygonal(shapely.make_valid(out))
+    return out
+
+
+def _without_spikes(c: np.ndarray) -> np.ndarray:
+    """A ring's vertices (open) without repeated points and without vertices between two copies of one."""
+    while len(c) >= 3:
+        nxt = np.roll(c, -1, axis=0)
+        dup = (c == nxt).all(axis=1)
+        if dup.any():
+            c = c[~dup]
+            continue
+        prv = np.roll(c, 1, axis=0)
+        spike = (prv == nxt).all(axis=1)
+        if not spike.any():
+            break
+        i = int(np.flatnonzero(spike)[0])
+        c = np.delete(c, [i, (i + 1) % len(c)], axis=0)
+    return c
 
 
 def _snap_vertices(P, centers: ArcCenters, side: int):
