@@ -266,67 +266,252 @@ def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, f
     Piece i lies within ``fat[i]`` of the segment A[i]→B[i] (``fat > 0`` marks an arc); the distance
     between two pieces is bounded below by that of their segments minus both ``fat``. The two segments on
     either side of an arc are exempt too: they are tangent to its circle at its ends and run away from each
-    other (its sweep is below π), so they are the arc's chord apart, however short it is.
+    other (its sweep is below π), so they are the arc's chord apart, however short it is. The pieces of a
+    ring are stored one after another (``nxt[i] = i + 1`` but at the ring's last piece, whose ``nxt`` is
+    its first, ``first[i]``).
 
-    Candidates: consecutive pieces are paired (0-1, 2-3, … of each ring) and each pair bounded by a disk in
-    a k-d tree (half as many points as pieces, and no neighbours to wade through). Two consecutive pairs
-    hold, besides neighbours, only pieces two apart and the head of one with the mate of the next, three
-    apart: those are paired by index. The few pieces much longer than the rest go to an STRtree.
+    Each piece is bounded by the disk around its chord's midpoint of radius half the chord plus ``fat``;
+    two pieces whose disks are more than ``eps`` apart pass. The pairs whose disks come nearer get the
+    segment test: all of them, found by a search that only prunes pairs whose disks provably stay apart
+    (`_near_pairs`).
+    """
+    mx, my = 0.5 * (A[:, 0] + B[:, 0]), 0.5 * (A[:, 1] + B[:, 1])
+    # Batch by batch: a chain that touches itself is usually found out in the first.
+    for i, j in _near_pairs(A, B, fat, nxt, first, mx, my, eps):
+        # Neighbours are exempt, and so are the two pieces on either side of an arc.
+        ni, nj = nxt[i], nxt[j]
+        across_i, across_j = np.where(fat[ni] > 0, nxt[ni], ni), np.where(fat[nj] > 0, nxt[nj], nj)
+        keep = (ni != j) & (nj != i) & (across_i != j) & (across_j != i)
+        i, j = i[keep], j[keep]
+        rho = 0.5 * np.hypot(B[i, 0] - A[i, 0], B[i, 1] - A[i, 1]) + fat[i]
+        rho_j = 0.5 * np.hypot(B[j, 0] - A[j, 0], B[j, 1] - A[j, 1]) + fat[j]
+        dx, dy = mx[i] - mx[j], my[i] - my[j]
+        reach = rho + rho_j + eps
+        keep = dx * dx + dy * dy <= reach * reach
+        i, j = i[keep], j[keep]
+        if len(i):
+            gap = _segment_distances(A[i], B[i], A[j], B[j]) - fat[i] - fat[j]
+            if not (gap >= eps).all():
+                return False
+    return True
+
+
+_TOP_LEVEL = 5        # `_near_pairs` starts from blocks of 2**5 consecutive pieces
+_ROUNDING = 1e-12     # × the chain's extent: more than the rounding of every bound `_near_pairs` prunes by
+
+
+def _near_pairs(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, first: np.ndarray,
+                mx: np.ndarray, my: np.ndarray, eps: float):
+    """Pairs ``i < j`` of pieces of `_separated`'s chain that may be ``eps`` or less apart, in batches.
+
+    Yields arrays ``(i, j)``: every pair whose bounding disks (midpoint ``(mx, my)``, radius half the chord
+    plus ``fat``) come within ``eps`` of each other is among them, but for neighbours and pieces with an
+    arc between them; pairs found to be farther apart, beyond any rounding, are left out.
+
+    The search runs down a hierarchy of blocks of consecutive pieces (2**L of them at level L), each with
+    the box of its pieces' disks. It starts from every block of the top level paired with itself and with
+    the blocks whose boxes come within ``eps`` of its own (a k-d tree over the boxes' centres), and splits
+    a pair of blocks into the pairs of their halves, down to pieces, unless
+
+    * their boxes are more than ``eps`` apart, or
+    * both lie in a *straight window*: two neighbouring blocks of one ring whose pieces' chain runs in one
+      direction. Let m_k be the midpoints, s_k = m_{k+1} − m_k the steps between them and ρ_k the disks'
+      radii. If the steps of the window turn by β < π/2 in all (the sum of the angles between consecutive
+      steps), all of them lie within β of the direction d of its first one, and for pieces i < j of the
+      window ``|m_j − m_i| ≥ (m_j − m_i)·d ≥ cos β · Σ_{i≤k<j} |s_k|``. For j ≥ i + 3 the sum holds
+      |s_i| + |s_{i+1}| + |s_{j−1}|, for j = i + 2 the first two; the window's minima and maxima of
+      ``|s_i| + |s_{i+1}| − ρ_i``, ``|s_{j−1}| − ρ_j``, ``|s_i| + |s_{i+1}| − ρ_i − ρ_{i+2}`` (pairs with an
+      arc between them are exempt) bound every pair's ``|m_j − m_i| − ρ_i − ρ_j`` from below. If that
+      bound exceeds ``eps``, no two pieces of the window other than neighbours are near.
+
+    On pieces strung along smooth curves the top level's windows are straight, and the search ends
+    there; it goes down only where the chain turns sharply or comes back near itself. Every bound is
+    computed with a margin (`_ROUNDING`) above its rounding, so that no pair whose disks the caller's test
+    finds to meet is pruned.
     """
     m = len(A)
-    mid = 0.5 * (A + B)
-    mx, my = mid[:, 0].copy(), mid[:, 1].copy()       # (columns: the gathers below run several × faster)
-    rho = 0.5 * np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1]) + fat
-    # Balls as small as the pieces allow: all of them when their lengths are alike.
-    h = max(min(float(rho.max()), 2.0 * float(np.percentile(rho, 95))), eps)
-    short = rho <= h
-    # Pairs of pieces (0-1, 2-3, … of each ring; the last may be single), bounded by a disk each.
-    pos = np.arange(m) - first
-    head = np.flatnonzero(pos % 2 == 0)
-    mate = np.where((head + 1 < m) & (first[np.minimum(head + 1, m - 1)] == first[head]), head + 1, head)
-    # Pieces two apart (unless an arc lies between them) and, from the head of a pair, three apart: all
-    # that two consecutive pairs hold besides neighbours; the many whose disks are apart settled here.
-    i2 = nxt[nxt]
-    two = np.flatnonzero(fat[nxt] == 0)
-    i = np.concatenate([two, head])
-    j = np.concatenate([i2[two], nxt[i2[head]]])
-    near = _disks_meet(mx, my, rho, i, j, eps)
-    pairs = [np.column_stack([i[near], j[near]])]
-    ok = short[head] & short[mate]
-    cx, cy = 0.5 * (mx[head] + mx[mate]), 0.5 * (my[head] + my[mate])
-    rad = np.maximum(np.hypot(mx[head] - cx, my[head] - cy) + rho[head],
-                     np.hypot(mx[mate] - cx, my[mate] - cy) + rho[mate])
-    g = np.flatnonzero(ok)
-    H = float(rad[g].max()) if len(g) else 0.0
-    gp = np.zeros((0, 2), np.int64)
-    if len(g) > 1:
-        gp = g[_tree(np.column_stack([cx[g], cy[g]])).query_pairs(2.0 * H + eps, output_type="ndarray")]
-    a, b = gp.T
-    # Consecutive pairs of pieces are covered above (their pieces are at most three apart).
-    near = _disks_meet(cx, cy, rad, a, b, eps)
-    a, b = a[near], b[near]
-    cons = (nxt[mate[a]] == head[b]) | (nxt[mate[b]] == head[a])
-    a, b = a[~cons], b[~cons]
-    for x in (head, mate):
-        for y in (head, mate):
-            pairs.append(np.column_stack([x[a], y[b]]))
-    # Pieces left out of the tree (long ones, or paired with one): against every piece.
-    loose = np.union1d(head[~ok], mate[~ok])
-    if len(loose):
-        chords = shapely.linestrings(np.stack([A, B], axis=1))
-        i, j = shapely.STRtree(chords).query(chords[loose], predicate="dwithin",
-                                             distance=2.0 * float(fat.max()) + eps)
-        pairs.append(np.column_stack([loose[i], j]))
-    i, j = np.concatenate(pairs).T
-    keep = _disks_meet(mx, my, rho, i, j, eps)
-    i, j = i[keep], j[keep]
-    across = np.where(fat[nxt] > 0, nxt[nxt], nxt)        # the piece after the next arc, if any
-    keep = (i != j) & (nxt[i] != j) & (nxt[j] != i) & (across[i] != j) & (across[j] != i)
-    i, j = i[keep], j[keep]
-    if len(i) == 0:
-        return True
-    gap = _segment_distances(A[i], B[i], A[j], B[j]) - fat[i] - fat[j]
-    return bool((gap >= eps).all())
+    if m < 3:
+        return
+    pieces = _Pieces(A, B, fat, nxt, first, mx, my)
+    top = min(_TOP_LEVEL, m.bit_length() - 2)
+    full = {top: _Blocks(pieces, top)}
+    # Every box holds its pieces' ends: the margin scales with the largest coordinate.
+    extent = max(float(np.abs(x).max()) for x in (full[top].x0, full[top].x1, full[top].y0, full[top].y1))
+    slack = eps + _ROUNDING * extent
+    a_top, b_top = _top_pairs(full[top], slack)
+    batch = max(4096, -(-len(a_top) // 8))
+    for k in range(0, len(a_top), batch):
+        a, b = a_top[k:k + batch], b_top[k:k + batch]
+        for level in range(top, 0, -1):
+            if len(a) == 0:
+                break
+            n = -(-m >> level)
+            if level in full or 8 * len(a) > n:
+                if level not in full:
+                    full[level] = _Blocks(pieces, level)
+                blocks = full[level]
+            else:                                   # few pairs left: only the blocks they need
+                same = a == b
+                ids = np.unique(np.concatenate([a, b, a[same] - 1, a[same] + 1]))
+                blocks = _Blocks(pieces, level, ids[(ids >= 0) & (ids < n)])
+            # A block with itself is settled by a straight window on either side; two neighbours by theirs.
+            same = a == b
+            ahead = blocks.straight(a, slack)
+            keep = np.where(same, ~(blocks.straight(a - 1, slack) | ahead),
+                            ~(((b == a + 1) & ahead) | blocks.apart(a, b, slack)))
+            a, b = _children(a[keep], b[keep], -(-m >> (level - 1)))
+        keep = (a != b) & ~pieces.apart(a, b, slack)
+        a, b = a[keep], b[keep]
+        dx, dy = mx[a] - mx[b], my[a] - my[b]
+        reach = pieces.rho[a] + pieces.rho[b] + slack
+        keep = dx * dx + dy * dy <= reach * reach
+        if keep.any():
+            yield a[keep], b[keep]
+
+
+class _Pieces:
+    """Per piece of a chain (`_near_pairs`): the box of its disk and the terms of the straight windows."""
+
+    def __init__(self, A, B, fat, nxt, first, mx, my):
+        self.m, self.first = len(A), first
+        self._nxt, self._end = nxt, np.flatnonzero(nxt != np.arange(1, len(A) + 1))
+        hx, hy = B[:, 0] - A[:, 0], B[:, 1] - A[:, 1]
+        rho = 0.5 * np.sqrt(hx * hx + hy * hy) + fat
+        self.rho = rho
+        self.x0, self.x1, self.y0, self.y1 = mx - rho, mx + rho, my - rho, my + rho
+        # Steps between consecutive midpoints, their lengths and the angles between consecutive steps.
+        sx, sy = self._succ(mx) - mx, self._succ(my) - my
+        step = np.sqrt(sx * sx + sy * sy)
+        psi = np.arctan2(sy, sx)
+        turn = np.abs(self._succ(psi) - psi)
+        self.turn = np.minimum(turn, _TWO_PI - turn)
+        self.two = step + self._succ(step)                          # |s_i| + |s_{i+1}|
+        self.back = self._pred(step)                                # |s_{i−1}|
+        self.two_rho, self.back_rho = self.two - rho, self.back - rho
+        self.span = np.where(self._succ(fat) > 0, np.inf, self.two_rho - self._succ(self._succ(rho)))
+
+    def _succ(self, x: np.ndarray) -> np.ndarray:
+        """``x[nxt]``, copied in one sweep but at the rings' ends."""
+        y = np.empty_like(x)
+        y[:-1] = x[1:]
+        y[self._end] = x[self._nxt[self._end]]
+        return y
+
+    def _pred(self, x: np.ndarray) -> np.ndarray:
+        """``x[prev]``, where ``nxt[prev[i]] = i``."""
+        y = np.empty_like(x)
+        y[1:] = x[:-1]
+        y[self._nxt[self._end]] = x[self._end]
+        return y
+
+    def apart(self, a: np.ndarray, b: np.ndarray, slack: float) -> np.ndarray:
+        """Whether the boxes of pieces a and b are more than ``slack`` apart, pair by pair."""
+        return ((np.maximum(self.x0[a], self.x0[b]) - np.minimum(self.x1[a], self.x1[b]) > slack)
+                | (np.maximum(self.y0[a], self.y0[b]) - np.minimum(self.y1[a], self.y1[b]) > slack))
+
+
+class _Blocks:
+    """Blocks of 2**level consecutive pieces (all of them, or those numbered ``ids``, sorted): the box of
+    their pieces' disks, the sum of their turns, the minima and maxima of the window terms (see
+    `_near_pairs`) and the ring of their first and of their last piece. Looked up by block number."""
+
+    def __init__(self, pieces: _Pieces, level: int, ids: np.ndarray | None = None):
+        size, m = 1 << level, pieces.m
+        self.n, self.ids, self._straight = -(-m // size), ids, None
+        if ids is None:
+            starts = np.arange(0, m, size)
+            at = starts
+        else:
+            starts = ids * size
+            at = np.empty(2 * len(ids), np.int64)
+            at[0::2], at[1::2] = starts, np.minimum(starts + size, m)
+            at = at[:-1] if at[-1] == m else at
+
+        def reduce(op, x):
+            out = op.reduceat(x, at)
+            return out if ids is None else out[0::2]
+
+        lo, hi = np.minimum, np.maximum
+        self.x0, self.x1 = reduce(lo, pieces.x0), reduce(hi, pieces.x1)
+        self.y0, self.y1 = reduce(lo, pieces.y0), reduce(hi, pieces.y1)
+        self.turn = reduce(np.add, pieces.turn)
+        self.two_rho, self.back_rho, self.span = (reduce(lo, x) for x in (pieces.two_rho, pieces.back_rho,
+                                                                          pieces.span))
+        self.two, self.back = reduce(hi, pieces.two), reduce(hi, pieces.back)
+        self.ring0 = pieces.first[starts]
+        self.ring1 = pieces.first[np.minimum(starts + size, m) - 1]
+
+    def _at(self, k: np.ndarray) -> np.ndarray:
+        return k if self.ids is None else np.searchsorted(self.ids, k)
+
+    def straight(self, k: np.ndarray, slack: float) -> np.ndarray:
+        """Whether the window of blocks k and k + 1 is straight (see `_near_pairs`); False off the ends."""
+        if self.ids is None:
+            if self._straight is None:
+                self._straight = np.zeros(self.n + 1, bool)
+                self._straight[:self.n - 1] = self._windows(np.arange(self.n - 1), np.arange(1, self.n), slack)
+            return self._straight[k]            # k = −1 reads the last entry: False
+        ok = (k >= 0) & (k + 1 < self.n)
+        out = np.zeros(len(k), bool)
+        if ok.any():
+            out[ok] = self._windows(self._at(k[ok]), self._at(k[ok] + 1), slack)
+        return out
+
+    def _windows(self, p: np.ndarray, q: np.ndarray, slack: float) -> np.ndarray:
+        """`straight` of the windows made of the blocks stored at p and q."""
+        # The turns, padded beyond their rounding: cos β is then below the cosine of the true turn.
+        beta = (self.turn[p] + self.turn[q]) * (1.0 + 1e-9) + 1e-12
+        loss = 1.0 - np.cos(np.minimum(beta, 1.5))
+        two = np.maximum(self.two[p], self.two[q]) * loss
+        head = np.minimum(self.two_rho[p], self.two_rho[q]) - two
+        tail = np.minimum(self.back_rho[p], self.back_rho[q]) - np.maximum(self.back[p], self.back[q]) * loss
+        span = np.minimum(self.span[p], self.span[q]) - two
+        return (self.ring0[p] == self.ring1[q]) & (beta < 1.5) & (head + tail > slack) & (span > slack)
+
+    def apart(self, a: np.ndarray, b: np.ndarray, slack: float) -> np.ndarray:
+        """Whether the boxes of blocks a and b are more than ``slack`` apart, pair by pair."""
+        a, b = self._at(a), self._at(b)
+        return ((np.maximum(self.x0[a], self.x0[b]) - np.minimum(self.x1[a], self.x1[b]) > slack)
+                | (np.maximum(self.y0[a], self.y0[b]) - np.minimum(self.y1[a], self.y1[b]) > slack))
+
+
+def _top_pairs(lv: _Blocks, slack: float):
+    """Every block paired with itself and with each block whose box comes within ``slack`` of its own."""
+    n = lv.n
+    cx, cy = 0.5 * (lv.x0 + lv.x1), 0.5 * (lv.y0 + lv.y1)
+    ext = np.maximum(lv.x1 - lv.x0, lv.y1 - lv.y0) * 0.5 * (1.0 + 1e-12)
+    h = max(min(float(ext.max()), 2.0 * float(np.percentile(ext, 95))), slack)
+    small = np.flatnonzero(ext <= h)
+    found = [np.column_stack([np.arange(n), np.arange(n)])]
+    if len(small) > 1:
+        # Boxes of half-extent ≤ h within ``slack``: centres within 2h + slack in both coordinates.
+        tree = cKDTree(np.column_stack([cx[small], cy[small]]))
+        found.append(small[tree.query_pairs(2.0 * h + 2.0 * slack, p=np.inf, output_type="ndarray")])
+    big = np.flatnonzero(ext > h)
+    if len(big):
+        # The few larger boxes against all others (the box test below settles them).
+        other = np.arange(n)
+        for chunk in np.array_split(big, max(1, len(big) * n // 4_000_000)):
+            a = np.repeat(chunk, n)
+            b = np.tile(other, len(chunk))
+            keep = a != b
+            found.append(np.column_stack([a[keep], b[keep]]))
+    a, b = np.concatenate(found).T
+    a, b = np.minimum(a, b), np.maximum(a, b)
+    keep = (a == b) | ~lv.apart(a, b, slack)
+    return a[keep], b[keep]
+
+
+def _children(a: np.ndarray, b: np.ndarray, n: int):
+    """Pairs of blocks split into the pairs of their halves (blocks 2a, 2a + 1 of the level below, of n)."""
+    same = a == b
+    a0, b0 = 2 * a, 2 * b
+    ca = np.concatenate([a0, a0, a0 + 1, a0 + 1])
+    cb = np.concatenate([b0, b0 + 1, b0, b0 + 1])
+    # Of a block with itself: (2a, 2a), (2a, 2a+1), (2a+1, 2a+1); of two blocks all four.
+    no = np.zeros(len(a), bool)
+    keep = ~np.concatenate([no, no, same, no]) & (ca < n) & (cb < n)
+    return ca[keep], cb[keep]
 
 
 def _disks_meet(x: np.ndarray, y: np.ndarray, rad: np.ndarray, i: np.ndarray, j: np.ndarray,
