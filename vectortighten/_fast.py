@@ -39,24 +39,30 @@ _TWO_PI = 2.0 * math.pi
 _EXACT = 1e-9         # relative slack of the exact distance tests (rounding only)
 
 
-def _clean_ring(c: np.ndarray) -> np.ndarray:
-    """Ring vertices without the closing point, repeated points or straight (collinear) vertices."""
+def _clean_ring(c: np.ndarray):
+    """Ring vertices without the closing point, repeated points or straight (collinear) vertices, and the
+    vectors and lengths of the edges that leave them (None if fewer than three vertices are left)."""
     pts = c[:-1]
-    keep = np.any(pts != np.roll(pts, -1, axis=0), axis=1)
-    pts = pts[keep]
+    keep = (pts[:, 0] != np.roll(pts[:, 0], -1)) | (pts[:, 1] != np.roll(pts[:, 1], -1))
+    if not keep.all():
+        pts = pts[keep]
     for _ in range(3):
         if len(pts) < 3:
-            return pts
-        u = pts - np.roll(pts, 1, axis=0)
-        v = np.roll(pts, -1, axis=0) - pts
+            return pts, None, None
+        v = np.roll(pts, -1, axis=0) - pts          # edge i, from vertex i to the next
+        u = np.roll(v, 1, axis=0)                   # the edge arriving at vertex i
         cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
-        dot = (u * v).sum(axis=1)
-        sine = cross / (np.hypot(*u.T) * np.hypot(*v.T))
+        dot = u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1]
+        ell = np.hypot(v[:, 0], v[:, 1])
+        sine = cross / (np.roll(ell, 1) * ell)
         straight = (np.abs(sine) < ANGLE_ZERO) & (dot > 0)
         if not straight.any():
-            return pts
+            return pts, v, ell
         pts = pts[~straight]
-    return pts
+    if len(pts) < 3:
+        return pts, None, None
+    v = np.roll(pts, -1, axis=0) - pts
+    return pts, v, np.hypot(v[:, 0], v[:, 1])
 
 
 class _Rings:
@@ -64,30 +70,54 @@ class _Rings:
 
     def __init__(self, S, r: float):
         rings = [_clean_ring(shapely.get_coordinates(ring)) for ring in shapely.get_rings(shapely.get_parts(S))]
-        self.ok = all(len(v) >= 3 for v in rings)
+        self.ok = all(len(v) >= 3 for v, _, _ in rings)
         if not self.ok:
             return
         self.r = r
-        sizes = [len(v) for v in rings]
-        start = np.cumsum([0] + sizes[:-1])
-        self.slices = [slice(a, a + n) for a, n in zip(start, sizes)]
-        self.v = np.concatenate(rings)
-        self.next = np.concatenate([a + (np.arange(n) + 1) % n for a, n in zip(start, sizes)])
-        self.prev = np.concatenate([a + (np.arange(n) - 1) % n for a, n in zip(start, sizes)])
-        u = self.v[self.next] - self.v
-        self.ell = np.hypot(*u.T)
-        self.u = u / self.ell[:, None]                                 # direction of edge i
-        self.n = np.column_stack([-self.u[:, 1], self.u[:, 0]])         # its left normal (into S)
-        u_in = self.u[self.prev]
-        cross = u_in[:, 0] * self.u[:, 1] - u_in[:, 1] * self.u[:, 0]
-        dot = (u_in * self.u).sum(axis=1)
+        sizes = np.array([len(v) for v, _, _ in rings])
+        start = np.cumsum(sizes) - sizes
+        self.slices = [slice(a, a + n) for a, n in zip(start.tolist(), sizes.tolist())]
+        self._first, self._last = start, start + sizes - 1
+        nv = int(sizes.sum())
+        if len(rings) == 1:
+            self.v, u, self.ell = rings[0]
+        else:
+            self.v, u, self.ell = (np.concatenate(part) for part in zip(*rings))
+        self.next = np.arange(1, nv + 1)
+        self.next[self._last] = self._first
+        self.prev = np.arange(-1, nv - 1)
+        self.prev[self._first] = self._last
+        self.u = u / self.ell[:, None]                                  # direction of edge i
+        ux, uy = self.u[:, 0], self.u[:, 1]
+        self.n = np.column_stack([-uy, ux])                             # its left normal (into S)
+        u_in = self._pred(self.u)
+        cross = u_in[:, 0] * uy - u_in[:, 1] * ux
+        dot = u_in[:, 0] * ux + u_in[:, 1] * uy
         self.theta = np.arctan2(cross, dot)                             # turn at vertex i, left positive
         self.side = np.where(self.theta > 0, 1.0, -1.0)
-        n_in = self.n[self.prev]
-        self.c = self.v + (self.side * r / (1.0 + dot))[:, None] * (n_in + self.n)
+        n_in = self._pred(self.n)
+        self.c = n_in
+        self.c += self.n
+        self.c *= (self.side * r / (1.0 + dot))[:, None]
+        self.c += self.v
         self.t = r * np.tan(np.abs(self.theta) / 2)
-        self.length = self.ell - self.t - self.t[self.next]             # straight piece on edge i
-        self.phi = np.arctan2(self.u[:, 1], self.u[:, 0])
+        self.length = self.ell - self.t - self._succ(self.t)            # straight piece on edge i
+        self.phi = np.arctan2(uy, ux)
+        self._offsets, self._arcs = {}, {}
+
+    def _succ(self, x: np.ndarray) -> np.ndarray:
+        """``x[next]``, copied in one sweep but at the rings' ends."""
+        y = np.empty_like(x)
+        y[:-1] = x[1:]
+        y[self._last] = x[self._first]
+        return y
+
+    def _pred(self, x: np.ndarray) -> np.ndarray:
+        """``x[prev]``, copied in one sweep but at the rings' starts."""
+        y = np.empty_like(x)
+        y[1:] = x[:-1]
+        y[self._first] = x[self._last]
+        return y
 
     @property
     def vertex_tree(self) -> cKDTree:
@@ -102,10 +132,21 @@ class _Rings:
         At an end whose disk is on the other side, the offset runs to the end of the edge (where the arc
         of radius r around that vertex starts).
         """
-        i, j = np.arange(len(self.v)), self.next
-        a = np.where((self.side[i] == side)[:, None], self.c[i], self.v[i] + side * self.r * self.n)
-        b = np.where((self.side[j] == side)[:, None], self.c[j], self.v[j] + side * self.r * self.n)
-        return np.stack([a, b], axis=1)
+        return np.stack(self._offset_ends(side), axis=1)
+
+    def _offset_ends(self, side: int):
+        """`offsets` as the arrays of their starts and of their ends."""
+        if side not in self._offsets:
+            shift = side * self.r * self.n
+            mine = self.side == side
+            a = self.v + shift
+            a[mine] = self.c[mine]
+            b = self._succ(self.v)
+            b += shift
+            mine = self._succ(mine)
+            b[mine] = self._succ(self.c)[mine]
+            self._offsets[side] = (a, b)
+        return self._offsets[side]
 
     def arcs(self, side: int):
         """Arcs of radius r around the vertices whose disk is on the other side: centres, start, sweep.
@@ -114,12 +155,14 @@ class _Rings:
         the incoming edge's inward normal to the outgoing one's); for −1 the convex arcs of the grow
         around the convex vertices.
         """
-        k = np.flatnonzero(self.side != side)
-        n_in, n_out = self.n[self.prev[k]], self.n[k]
-        if side < 0:
-            n_in, n_out = -n_in, -n_out
-        start = np.arctan2(n_in[:, 1], n_in[:, 0])
-        return self.v[k], start, self.theta[k]
+        if side not in self._arcs:
+            k = np.flatnonzero(self.side != side)
+            n_in = self.n[self.prev[k]]
+            if side < 0:
+                n_in = -n_in
+            start = np.arctan2(n_in[:, 1], n_in[:, 0])
+            self._arcs[side] = (self.v[k], start, self.theta[k])
+        return self._arcs[side]
 
 
 def fast_disk_loops(S, r: float, q: int, init: str):
@@ -204,24 +247,32 @@ def _offset_certified(D: _Rings, S, side: int) -> bool:
     """Whether the raw offset curves of this side provably keep distance r from every edge of S."""
     if (D.length <= _CONTACT * D.r).any():
         return False                          # a piece too short for its direction to be sure
-    pieces = D.offsets(side)
+    seg_a, seg_b = D._offset_ends(side)
     centres, start, sweep = D.arcs(side)
     k = np.flatnonzero(D.side != side)        # vertices with an arc, in the order of `_Rings.arcs`
     arc_a = centres + D.r * np.column_stack([np.cos(start), np.sin(start)])
     arc_b = centres + D.r * np.column_stack([np.cos(start + sweep), np.sin(start + sweep)])
-    chain = _chain(D, k, arc_a, arc_b, D.r * (1 - np.cos(0.5 * sweep)), pieces[:, 0], pieces[:, 1])
+    chain = _chain(D, k, arc_a, arc_b, D.r * (1 - np.cos(0.5 * sweep)), seg_a, seg_b)
     if not _separated(*chain, _CONTACT * D.r):
         return False
     # One point of each ring's curve, the start of its first straight piece, decides the sign of f there.
-    p0 = pieces[[sl.start for sl in D.slices], 0]
+    p0 = seg_a[D._first]
     if (shapely.contains_xy(S, p0[:, 0], p0[:, 1]) != (side > 0)).any():
         return False
     limit = D.r * (1 - _EXACT)
     if len(p0) * len(D.v) > 4_000_000:
         return not _closer_than(D, p0, p0, limit)
-    # Few rings: every edge against every point, without building the k-d tree.
-    a, b = D.v, D.v[D.next]
-    return all((_point_segment_distances(x[None, :], a, b) >= limit).all() for x in p0)
+    # Few rings: every edge against every point, without building the k-d tree. An edge whose start is
+    # farther than limit + its length from the point (beyond any rounding) is farther than limit from it.
+    a = D.v
+    reach = (limit + D.ell) * (1 + 1e-9) + 1e-12 * (1.0 + float(np.abs(a).max()))
+    reach *= reach
+    for x in p0:
+        dx, dy = a[:, 0] - x[0], a[:, 1] - x[1]
+        near = np.flatnonzero(dx * dx + dy * dy <= reach)
+        if not (_point_segment_distances(x[None, :], a[near], D.v[D.next[near]]) >= limit).all():
+            return False
+    return True
 
 
 def _rounded_certified(D: _Rings) -> bool:
@@ -232,28 +283,38 @@ def _rounded_certified(D: _Rings) -> bool:
     edges, with the same pieces next to each other, so if this chain does not touch itself neither do they.
     """
     t = D.t
-    arc_a = D.v - t[:, None] * D.u[D.prev]
+    arc_a = D.v - t[:, None] * D._pred(D.u)
     arc_b = D.v + t[:, None] * D.u
     fat = D.r * (1 - np.cos(0.5 * D.theta))
-    return _separated(*_chain(D, np.arange(len(D.v)), arc_a, arc_b, fat, D.v, D.v[D.next]), _CONTACT * D.r)
+    return _separated(*_chain(D, None, arc_a, arc_b, fat, D.v, D._succ(D.v)), _CONTACT * D.r)
 
 
-def _chain(D: _Rings, k: np.ndarray, arc_a, arc_b, arc_fat, seg_a, seg_b):
-    """One closed chain of pieces per ring: at vertex i the arc (if i is in ``k``, sorted) then the segment
-    on edge i. Returns chord ends ``A``, ``B``, how far each piece may stray from its chord (``fat``, the
-    sagitta of an arc; > 0 marks the arcs), the index of the next piece of the same ring and of the first
-    piece of each piece's ring."""
+def _chain(D: _Rings, k, arc_a, arc_b, arc_fat, seg_a, seg_b):
+    """One closed chain of pieces per ring: at vertex i the arc (if i is in ``k``, sorted; every vertex if
+    ``k`` is None) then the segment on edge i. Returns chord ends ``A``, ``B``, how far each piece may
+    stray from its chord (``fat``, the sagitta of an arc; > 0 marks the arcs), the index of the next piece
+    of the same ring and of the first piece of each piece's ring."""
     nv = len(D.v)
-    has_arc = np.zeros(nv, bool)
-    has_arc[k] = True
-    count = 1 + has_arc
-    seg_at = np.cumsum(count) - 1             # index of edge i's segment; its arc, if any, just before
-    m = int(count.sum())
-    A, B, fat = np.empty((m, 2)), np.empty((m, 2)), np.zeros(m)
-    A[seg_at], B[seg_at] = seg_a, seg_b
-    A[seg_at[k] - 1], B[seg_at[k] - 1], fat[seg_at[k] - 1] = arc_a, arc_b, np.maximum(arc_fat, 1e-300)
+    if k is None:
+        m = 2 * nv
+        A, B, fat = np.empty((m, 2)), np.empty((m, 2)), np.zeros(m)
+        A[0::2], A[1::2], B[0::2], B[1::2] = arc_a, seg_a, arc_b, seg_b
+        fat[0::2] = np.maximum(arc_fat, 1e-300)
+        starts = 2 * D._first
+    else:
+        has_arc = np.zeros(nv, bool)
+        has_arc[k] = True
+        count = 1 + has_arc
+        seg_at = np.cumsum(count) - 1             # index of edge i's segment; its arc, if any, just before
+        m = int(seg_at[-1]) + 1
+        A, B, fat = np.empty((m, 2)), np.empty((m, 2)), np.zeros(m)
+        arc_at = seg_at[k] - 1
+        for X, seg, arc in ((A, seg_a, arc_a), (B, seg_b, arc_b)):
+            for col in (0, 1):                  # a column at a time: several times faster than rows
+                X[seg_at, col], X[arc_at, col] = seg[:, col], arc[:, col]
+        fat[arc_at] = np.maximum(arc_fat, 1e-300)
+        starts = seg_at[D._first] - has_arc[D._first]
     nxt = np.arange(1, m + 1)
-    starts = np.array([seg_at[sl.start] - has_arc[sl.start] for sl in D.slices])
     nxt[np.append(starts[1:], m) - 1] = starts        # the last piece of a ring is followed by its first
     first = np.repeat(starts, np.diff(np.append(starts, m)))
     return A, B, fat, nxt, first
@@ -348,7 +409,7 @@ def _near_pairs(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, 
             n = -(-m >> level)
             if level in full or 8 * len(a) > n:
                 if level not in full:
-                    full[level] = _Blocks(pieces, level)
+                    full[level] = _Blocks(pieces, level, keep=level > 1)
                 blocks = full[level]
             else:                                   # few pairs left: only the blocks they need
                 same = a == b
@@ -370,25 +431,27 @@ def _near_pairs(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, 
 
 
 class _Pieces:
-    """Per piece of a chain (`_near_pairs`): the box of its disk and the terms of the straight windows."""
+    """Per piece of a chain (`_near_pairs`): its disk, and the terms of the straight windows on demand.
+
+    The terms (`_TERMS`) are made one after another and reduced to blocks as they come (`_Blocks`), so
+    that few arrays as long as the chain are alive at once; those of a few pieces are made from their
+    neighbours' midpoints (`terms_at`).
+    """
 
     def __init__(self, A, B, fat, nxt, first, mx, my):
-        self.m, self.first = len(A), first
-        self._nxt, self._end = nxt, np.flatnonzero(nxt != np.arange(1, len(A) + 1))
-        hx, hy = B[:, 0] - A[:, 0], B[:, 1] - A[:, 1]
-        rho = 0.5 * np.sqrt(hx * hx + hy * hy) + fat
+        self.m, self.first, self.mx, self.my, self.fat = len(A), first, mx, my, fat
+        self._nxt, self._end, self._prev = nxt, np.flatnonzero(nxt != np.arange(1, len(A) + 1)), None
+        rho = B[:, 0] - A[:, 0]
+        rho *= rho
+        hy = B[:, 1] - A[:, 1]
+        hy *= hy
+        rho += hy
+        del hy
+        np.sqrt(rho, out=rho)
+        rho *= 0.5
+        rho += fat
         self.rho = rho
-        self.x0, self.x1, self.y0, self.y1 = mx - rho, mx + rho, my - rho, my + rho
-        # Steps between consecutive midpoints, their lengths and the angles between consecutive steps.
-        sx, sy = self._succ(mx) - mx, self._succ(my) - my
-        step = np.sqrt(sx * sx + sy * sy)
-        psi = np.arctan2(sy, sx)
-        turn = np.abs(self._succ(psi) - psi)
-        self.turn = np.minimum(turn, _TWO_PI - turn)
-        self.two = step + self._succ(step)                          # |s_i| + |s_{i+1}|
-        self.back = self._pred(step)                                # |s_{i−1}|
-        self.two_rho, self.back_rho = self.two - rho, self.back - rho
-        self.span = np.where(self._succ(fat) > 0, np.inf, self.two_rho - self._succ(self._succ(rho)))
+        self.terms = None                   # all pieces' terms, kept once a lower level needs them all
 
     def _succ(self, x: np.ndarray) -> np.ndarray:
         """``x[nxt]``, copied in one sweep but at the rings' ends."""
@@ -404,40 +467,114 @@ class _Pieces:
         y[self._nxt[self._end]] = x[self._end]
         return y
 
+    def each_term(self):
+        """``(name, array)`` for every term of every piece, one at a time: the direction ``psi`` of the step
+        s_i = m_{i+1} − m_i, ``two`` = |s_i| + |s_{i+1}|, ``back`` = |s_{i−1}|, ``two_rho`` = two − ρ_i,
+        ``back_rho`` = back − ρ_i and ``span`` = two − ρ_i − ρ_{i+2} (∞ with an arc between). An array is
+        overwritten once the next is asked for."""
+        mx, my, rho = self.mx, self.my, self.rho
+        sx, sy = self._succ(mx), self._succ(my)
+        sx -= mx
+        sy -= my
+        yield "psi", np.arctan2(sy, sx)
+        sx *= sx
+        sy *= sy
+        sx += sy
+        del sy
+        step = np.sqrt(sx, out=sx)
+        two = self._succ(step)
+        two += step
+        yield "two", two
+        back = self._pred(step)
+        del step, sx
+        yield "back", back
+        back -= rho
+        yield "back_rho", back
+        two -= rho
+        yield "two_rho", two
+        span = two
+        span -= self._succ(self._succ(rho))
+        span[self._succ(self.fat) > 0] = np.inf
+        yield "span", span
+
+    def terms_at(self, idx: np.ndarray) -> dict:
+        """The terms (see `each_term`) of the pieces ``idx``, from their neighbours' midpoints."""
+        if self._prev is None:
+            self._prev = np.empty(self.m, np.int64)
+            self._prev[self._nxt] = np.arange(self.m)
+        mx, my, rho = self.mx, self.my, self.rho
+        p, j = self._prev[idx], self._nxt[idx]
+        jj = self._nxt[j]
+
+        def steps(a, b):
+            sx, sy = mx[b] - mx[a], my[b] - my[a]
+            return sx, sy, np.sqrt(sx * sx + sy * sy)
+
+        sx, sy, step = steps(idx, j)
+        two = steps(j, jj)[2] + step
+        back = steps(p, idx)[2]
+        span = two - rho[idx] - rho[jj]
+        span[self.fat[j] > 0] = np.inf
+        return {"psi": np.arctan2(sy, sx), "two": two, "back": back, "back_rho": back - rho[idx],
+                "two_rho": two - rho[idx], "span": span}
+
     def apart(self, a: np.ndarray, b: np.ndarray, slack: float) -> np.ndarray:
-        """Whether the boxes of pieces a and b are more than ``slack`` apart, pair by pair."""
-        return ((np.maximum(self.x0[a], self.x0[b]) - np.minimum(self.x1[a], self.x1[b]) > slack)
-                | (np.maximum(self.y0[a], self.y0[b]) - np.minimum(self.y1[a], self.y1[b]) > slack))
+        """Whether the boxes of the disks of pieces a and b are more than ``slack`` apart, pair by pair."""
+        ra, rb = self.rho[a], self.rho[b]
+        out = np.zeros(len(a), bool)
+        for c in (self.mx, self.my):
+            ca, cb = c[a], c[b]
+            out |= np.maximum(ca - ra, cb - rb) - np.minimum(ca + ra, cb + rb) > slack
+        return out
+
+
+# How `_Blocks` reduces each term of `_Pieces` over a block: to the least or the greatest.
+_TERMS = {"psi": None, "two": np.maximum, "back": np.maximum, "back_rho": np.minimum, "two_rho": np.minimum,
+          "span": np.minimum}
 
 
 class _Blocks:
     """Blocks of 2**level consecutive pieces (all of them, or those numbered ``ids``, sorted): the box of
-    their pieces' disks, the sum of their turns, the minima and maxima of the window terms (see
-    `_near_pairs`) and the ring of their first and of their last piece. Looked up by block number."""
+    their pieces' disks, the range of their steps' directions, the minima and maxima of the window terms
+    (see `_near_pairs`) and the ring of their first and of their last piece. Looked up by block number."""
 
-    def __init__(self, pieces: _Pieces, level: int, ids: np.ndarray | None = None):
+    def __init__(self, pieces: _Pieces, level: int, ids: np.ndarray | None = None, keep: bool = False):
         size, m = 1 << level, pieces.m
         self.n, self.ids, self._straight = -(-m // size), ids, None
         if ids is None:
             starts = np.arange(0, m, size)
-            at = starts
+
+            def reduce(op, x):
+                return op.reduceat(x, starts)
+
+            if pieces.terms is not None:
+                terms = pieces.terms.items()
+            elif keep:                              # a lower level will need them too
+                pieces.terms = {name: x.copy() for name, x in pieces.each_term()}
+                terms = pieces.terms.items()
+            else:
+                terms = pieces.each_term()
+            mx, my, rho = pieces.mx, pieces.my, pieces.rho
         else:
+            # The pieces of each block (the last of a short block repeated: minima and maxima only).
             starts = ids * size
-            at = np.empty(2 * len(ids), np.int64)
-            at[0::2], at[1::2] = starts, np.minimum(starts + size, m)
-            at = at[:-1] if at[-1] == m else at
+            at = np.minimum(starts[:, None] + np.arange(size), np.minimum(starts + size, m)[:, None] - 1)
+            shape, at = at.shape, at.ravel()
 
-        def reduce(op, x):
-            out = op.reduceat(x, at)
-            return out if ids is None else out[0::2]
+            def reduce(op, x):
+                return op.reduce(x.reshape(shape), axis=1)
 
+            terms = pieces.terms_at(at).items()
+            mx, my, rho = pieces.mx[at], pieces.my[at], pieces.rho[at]
         lo, hi = np.minimum, np.maximum
-        self.x0, self.x1 = reduce(lo, pieces.x0), reduce(hi, pieces.x1)
-        self.y0, self.y1 = reduce(lo, pieces.y0), reduce(hi, pieces.y1)
-        self.turn = reduce(np.add, pieces.turn)
-        self.two_rho, self.back_rho, self.span = (reduce(lo, x) for x in (pieces.two_rho, pieces.back_rho,
-                                                                          pieces.span))
-        self.two, self.back = reduce(hi, pieces.two), reduce(hi, pieces.back)
+        r = reduce(hi, rho)
+        self.x0, self.x1 = reduce(lo, mx) - r, reduce(hi, mx) + r
+        self.y0, self.y1 = reduce(lo, my) - r, reduce(hi, my) + r
+        for name, x in terms:
+            if _TERMS[name] is None:
+                self.psi0, self.psi1 = reduce(lo, x), reduce(hi, x)
+            else:
+                setattr(self, name, reduce(_TERMS[name], x))
         self.ring0 = pieces.first[starts]
         self.ring1 = pieces.first[np.minimum(starts + size, m) - 1]
 
@@ -459,8 +596,10 @@ class _Blocks:
 
     def _windows(self, p: np.ndarray, q: np.ndarray, slack: float) -> np.ndarray:
         """`straight` of the windows made of the blocks stored at p and q."""
-        # The turns, padded beyond their rounding: cos β is then below the cosine of the true turn.
-        beta = (self.turn[p] + self.turn[q]) * (1.0 + 1e-9) + 1e-12
+        # Every step's direction is within β, half the range of their angles, of the range's middle
+        # (padded beyond the rounding of the angles, so that cos β is below the cosine of the true β).
+        beta = (np.maximum(self.psi1[p], self.psi1[q]) - np.minimum(self.psi0[p], self.psi0[q])) \
+            * (0.5 * (1.0 + 1e-9)) + 1e-12
         loss = 1.0 - np.cos(np.minimum(beta, 1.5))
         two = np.maximum(self.two[p], self.two[q]) * loss
         head = np.minimum(self.two_rho[p], self.two_rho[q]) - two

@@ -447,20 +447,26 @@ class Loop:
         cx, cy = c[:, 0], c[:, 1]
         cx_next, cy_next = np.roll(cx, -1), np.roll(cy, -1)
         # Arc i is row 2i: (cx, cy, r, start, sweep); the tangent leaving disk i row 2i + 1: (P, Q, 0).
-        cols = [(cx, cy, np.full(n, float(r)), np.roll(phi, 1) - s * (math.pi / 2), sweeps),
-                (cx - sr * nx, cy - sr * ny, cx_next - sr_next * nx, cy_next - sr_next * ny, 0.0)]
         data = np.empty((2 * n, 5))
-        for row, (x0, y0, a, b, e) in enumerate(cols):
-            if affine is not None:
-                scale, dx, dy = affine
-                x0, y0 = x0 * scale + dx, y0 * scale + dy
-                a, b = (a * scale, b) if row == 0 else (a * scale + dx, b * scale + dy)
-            rows = data[row::2]
-            rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3], rows[:, 4] = x0, y0, a, b, e
+        arcs, segs = data[0::2], data[1::2]
+        arcs[:, 0], arcs[:, 1], arcs[:, 2] = cx, cy, r
+        np.subtract(np.roll(phi, 1), s * (math.pi / 2), out=arcs[:, 3])
+        arcs[:, 4] = sweeps
+        for k, (x, sx) in enumerate(((cx, nx), (cy, ny), (cx_next, nx), (cy_next, ny))):
+            np.multiply(sr if k < 2 else sr_next, sx, out=segs[:, k])
+            np.subtract(x, segs[:, k], out=segs[:, k])
+        segs[:, 4] = 0.0
+        if affine is not None:
+            scale, dx, dy = affine
+            for rows, cols in ((arcs, (0, 1)), (segs, (0, 1, 2, 3))):
+                for k in cols:
+                    rows[:, k] *= scale
+                    rows[:, k] += dy if k % 2 else dx
+            arcs[:, 2] *= scale
         arc = np.zeros(2 * n, dtype=bool)
         arc[0::2] = True
         keep = np.empty(2 * n, dtype=bool)
-        keep[0::2], keep[1::2] = data[0::2, 4] != 0.0, length > 0
+        keep[0::2], keep[1::2] = arcs[:, 4] != 0.0, length > 0
         if keep.all():
             return cls._from_arrays(arc, data)
         if not keep.any():
@@ -503,25 +509,33 @@ class Loop:
         """Each piece's contribution ½∮(x dy − y dx) to the area, relative to the first piece's start."""
         if self._terms is not None:
             return self._terms
-        d, arc = self._data, self._arc
+        d = self._data
         # Origin: the first piece's start (the same arithmetic as `_ends`, on that piece alone).
         first = Loop.__new__(Loop)
-        first._arc, first._data = arc[:1], d[:1]
+        first._arc, first._data = self._arc[:1], d[:1]
         o = first._ends()[0][0]
         terms = np.empty(len(d))
-        seg = ~arc
-        if seg.any():
-            e = d[seg]
+        arc, seg = self._rows()
+        e = d[seg]
+        if len(e):
             x0, y0, x1, y1 = e[:, 0] - o[0], e[:, 1] - o[1], e[:, 2] - o[0], e[:, 3] - o[1]
             terms[seg] = 0.5 * (x0 * y1 - x1 * y0)
-        if arc.any():
-            e = d[arc]
+        e = d[arc]
+        if len(e):
             x0, y0 = e[:, 0] - o[0], e[:, 1] - o[1]
             r, a0, sw = e[:, 2], e[:, 3], e[:, 4]
             a1 = a0 + sw
             terms[arc] = 0.5 * (r * r * sw + r * x0 * (np.sin(a1) - np.sin(a0))
                                 - r * y0 * (np.cos(a1) - np.cos(a0)))
         return terms
+
+    def _rows(self):
+        """Where the arcs and where the segments are among the rows: slices when they alternate, arc
+        first (as `_from_disk_arrays` makes them), else index arrays."""
+        arc = self._arc
+        if len(arc) % 2 == 0 and arc[0::2].all() and not arc[1::2].any():
+            return slice(0, None, 2), slice(1, None, 2)
+        return np.flatnonzero(arc), np.flatnonzero(~arc)
 
     def _orientation(self) -> int:
         """The sign of `area` (+1, −1 or 0), exact, without its compensated sum where rounding cannot
@@ -630,19 +644,25 @@ class Loop:
         Every point lies on the exact curve (the chords of an arc lie on its centre's side).
         """
         d, arc = self._data, self._arc
-        ia = np.flatnonzero(arc)
-        r = d[ia, 2]
+        ia = self._rows()[0]
+        e = d[ia]
+        r = e[:, 2]
         step = np.where(tolerance >= r, math.pi / 2, 2.0 * np.arccos(np.clip(1.0 - tolerance / r, -1.0, 1.0)))
-        count = np.maximum(1, np.ceil(np.abs(d[ia, 4]) / step - 1e-9)).astype(np.int64)
+        count = np.maximum(1, np.ceil(np.abs(e[:, 4]) / step - 1e-9)).astype(np.int64)
         if (count == 1).all():
             # One point a piece, its start (arcs at the fraction 0 of their sweep).
             out = np.empty((len(d) + 1, 2))
             out[:-1] = d[:, :2]
-            th = d[ia, 3] + d[ia, 4] * 0.0
-            out[ia, 0] = d[ia, 0] + r * np.cos(th)
-            out[ia, 1] = d[ia, 1] + r * np.sin(th)
+            th = e[:, 3] + e[:, 4] * 0.0
+            pts = out[:-1][ia]
+            np.multiply(r, np.cos(th), out=pts[:, 0])
+            pts[:, 0] += e[:, 0]
+            np.multiply(r, np.sin(th), out=pts[:, 1])
+            pts[:, 1] += e[:, 1]
+            out[:-1][ia] = pts
             out[-1] = out[0]
             return out
+        ia = np.flatnonzero(arc)
         counts = np.ones(len(d), np.int64)
         counts[ia] = count
         owner = np.repeat(np.arange(len(d)), counts)
