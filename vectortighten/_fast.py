@@ -295,9 +295,10 @@ def _chain(D: _Rings, k, arc_a, arc_b, arc_fat, seg_a, seg_b):
     stray from its chord (``fat``, the sagitta of an arc; > 0 marks the arcs), the index of the next piece
     of the same ring and of the first piece of each piece's ring."""
     nv = len(D.v)
+    # Ends stored a coordinate at a time (Fortran order): `_separated` reads them so.
     if k is None:
         m = 2 * nv
-        A, B, fat = np.empty((m, 2)), np.empty((m, 2)), np.zeros(m)
+        A, B, fat = np.empty((m, 2), order="F"), np.empty((m, 2), order="F"), np.zeros(m)
         A[0::2], A[1::2], B[0::2], B[1::2] = arc_a, seg_a, arc_b, seg_b
         fat[0::2] = np.maximum(arc_fat, 1e-300)
         starts = 2 * D._first
@@ -307,10 +308,10 @@ def _chain(D: _Rings, k, arc_a, arc_b, arc_fat, seg_a, seg_b):
         count = 1 + has_arc
         seg_at = np.cumsum(count) - 1             # index of edge i's segment; its arc, if any, just before
         m = int(seg_at[-1]) + 1
-        A, B, fat = np.empty((m, 2)), np.empty((m, 2)), np.zeros(m)
+        A, B, fat = np.empty((m, 2), order="F"), np.empty((m, 2), order="F"), np.zeros(m)
         arc_at = seg_at[k] - 1
         for X, seg, arc in ((A, seg_a, arc_a), (B, seg_b, arc_b)):
-            for col in (0, 1):                  # a column at a time: several times faster than rows
+            for col in (0, 1):                  # a coordinate at a time: several times faster than rows
                 X[seg_at, col], X[arc_at, col] = seg[:, col], arc[:, col]
         fat[arc_at] = np.maximum(arc_fat, 1e-300)
         starts = seg_at[D._first] - has_arc[D._first]
@@ -357,7 +358,7 @@ def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, f
     return True
 
 
-_TOP_LEVEL = 5        # `_near_pairs` starts from blocks of 2**5 consecutive pieces
+_TOP_BLOCKS = 8192    # `_near_pairs` starts from blocks of at least 32 pieces, and about this many blocks
 _ROUNDING = 1e-12     # × the chain's extent: more than the rounding of every bound `_near_pairs` prunes by
 
 
@@ -394,7 +395,7 @@ def _near_pairs(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, 
     if m < 3:
         return
     pieces = _Pieces(A, B, fat, nxt, first, mx, my)
-    top = min(_TOP_LEVEL, m.bit_length() - 2)
+    top = min(max(5, (m // _TOP_BLOCKS).bit_length()), m.bit_length() - 2)
     full = {top: _Blocks(pieces, top)}
     # Every box holds its pieces' ends: the margin scales with the largest coordinate.
     extent = max(float(np.abs(x).max()) for x in (full[top].x0, full[top].x1, full[top].y0, full[top].y1))
@@ -440,7 +441,7 @@ class _Pieces:
 
     def __init__(self, A, B, fat, nxt, first, mx, my):
         self.m, self.first, self.mx, self.my, self.fat = len(A), first, mx, my, fat
-        self._nxt, self._end, self._prev = nxt, np.flatnonzero(nxt != np.arange(1, len(A) + 1)), None
+        self._nxt, self._end = nxt, np.flatnonzero(nxt != np.arange(1, len(A) + 1))
         rho = B[:, 0] - A[:, 0]
         rho *= rho
         hy = B[:, 1] - A[:, 1]
@@ -473,17 +474,14 @@ class _Pieces:
         ``back_rho`` = back − ρ_i and ``span`` = two − ρ_i − ρ_{i+2} (∞ with an arc between). An array is
         overwritten once the next is asked for."""
         mx, my, rho = self.mx, self.my, self.rho
-        sx, sy = self._succ(mx), self._succ(my)
-        sx -= mx
-        sy -= my
+        sx, sy = self._ahead(mx, np.subtract), self._ahead(my, np.subtract)
         yield "psi", np.arctan2(sy, sx)
         sx *= sx
         sy *= sy
         sx += sy
         del sy
         step = np.sqrt(sx, out=sx)
-        two = self._succ(step)
-        two += step
+        two = self._ahead(step, np.add)
         yield "two", two
         back = self._pred(step)
         del step, sx
@@ -497,13 +495,21 @@ class _Pieces:
         span[self._succ(self.fat) > 0] = np.inf
         yield "span", span
 
+    def _ahead(self, x: np.ndarray, op) -> np.ndarray:
+        """``op(x[nxt], x)`` in one sweep (but at the rings' ends)."""
+        y = np.empty_like(x)
+        op(x[1:], x[:-1], out=y[:-1])
+        e = self._end
+        y[e] = op(x[self._nxt[e]], x[e])
+        return y
+
     def terms_at(self, idx: np.ndarray) -> dict:
         """The terms (see `each_term`) of the pieces ``idx``, from their neighbours' midpoints."""
-        if self._prev is None:
-            self._prev = np.empty(self.m, np.int64)
-            self._prev[self._nxt] = np.arange(self.m)
         mx, my, rho = self.mx, self.my, self.rho
-        p, j = self._prev[idx], self._nxt[idx]
+        # The piece before: the previous one, or at a ring's first piece the ring's last.
+        p, j = idx - 1, self._nxt[idx]
+        start = self.first[idx] == idx
+        p[start] = self._end[np.searchsorted(self._end, idx[start])]
         jj = self._nxt[j]
 
         def steps(a, b):

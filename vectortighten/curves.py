@@ -446,27 +446,29 @@ class Loop:
         sr, sr_next = s * r, np.roll(s, -1) * r
         cx, cy = c[:, 0], c[:, 1]
         cx_next, cy_next = np.roll(cx, -1), np.roll(cy, -1)
-        # Arc i is row 2i: (cx, cy, r, start, sweep); the tangent leaving disk i row 2i + 1: (P, Q, 0).
-        data = np.empty((2 * n, 5))
-        arcs, segs = data[0::2], data[1::2]
-        arcs[:, 0], arcs[:, 1], arcs[:, 2] = cx, cy, r
-        np.subtract(np.roll(phi, 1), s * (math.pi / 2), out=arcs[:, 3])
-        arcs[:, 4] = sweeps
+        # Arc i is row 2i: (cx, cy, r, start, sweep); the tangent leaving disk i row 2i + 1: (P, Q, 0). The
+        # rows are stored a column at a time (Fortran order): every measure reads the array by columns.
+        buf = np.empty((5, n, 2))
+        arcs, segs = buf[:, :, 0], buf[:, :, 1]
+        arcs[0], arcs[1], arcs[2] = cx, cy, r
+        np.subtract(np.roll(phi, 1), s * (math.pi / 2), out=arcs[3])
+        arcs[4] = sweeps
         for k, (x, sx) in enumerate(((cx, nx), (cy, ny), (cx_next, nx), (cy_next, ny))):
-            np.multiply(sr if k < 2 else sr_next, sx, out=segs[:, k])
-            np.subtract(x, segs[:, k], out=segs[:, k])
-        segs[:, 4] = 0.0
+            np.multiply(sr if k < 2 else sr_next, sx, out=segs[k])
+            np.subtract(x, segs[k], out=segs[k])
+        segs[4] = 0.0
         if affine is not None:
             scale, dx, dy = affine
             for rows, cols in ((arcs, (0, 1)), (segs, (0, 1, 2, 3))):
                 for k in cols:
-                    rows[:, k] *= scale
-                    rows[:, k] += dy if k % 2 else dx
-            arcs[:, 2] *= scale
+                    rows[k] *= scale
+                    rows[k] += dy if k % 2 else dx
+            arcs[2] *= scale
+        data = buf.reshape(5, 2 * n).T
         arc = np.zeros(2 * n, dtype=bool)
         arc[0::2] = True
         keep = np.empty(2 * n, dtype=bool)
-        keep[0::2], keep[1::2] = arcs[:, 4] != 0.0, length > 0
+        keep[0::2], keep[1::2] = arcs[4] != 0.0, length > 0
         if keep.all():
             return cls._from_arrays(arc, data)
         if not keep.any():

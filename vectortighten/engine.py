@@ -1025,12 +1025,18 @@ def _rebind(ctx: _Context, L: _DiskLoop) -> _DiskLoop:
 
 def _assemble(loops: list[Loop], tol: float):
     """Shapely geometry from oriented loops: counter-clockwise outer boundaries, clockwise holes."""
+    return _assemble_valid(loops, tol)[0]
+
+
+def _assemble_valid(loops: list[Loop], tol: float):
+    """`_assemble`, and True if the geometry is known to be valid (found so before its rings were
+    oriented, which validity does not depend on), None if it is not known."""
     sign = [lp._orientation() for lp in loops]
     ring = [lp.sample(tol) if s else None for lp, s in zip(loops, sign)]
     outers = [(k, Polygon(ring[k])) for k in range(len(loops)) if sign[k] > 0]
     holes = [(k, Polygon(ring[k])) for k in range(len(loops)) if sign[k] < 0]
     if not outers:
-        return Polygon()
+        return Polygon(), None
     shells = [[p, []] for _, p in outers]
     if holes:
         areas = [p.area for _, p in outers]
@@ -1049,9 +1055,10 @@ def _assemble(loops: list[Loop], tol: float):
         # The same coordinates as the loops' samples: a shell without holes is used as it is.
         polys.append(Polygon(ring[k], [ring[holes[n][0]] for n in hs]) if hs else shell)
     geom = polys[0] if len(polys) == 1 else MultiPolygon(polys)
-    if not geom.is_valid:
+    valid = geom.is_valid or None
+    if not valid:
         geom = _m._polygonal(shapely.make_valid(geom))
-    return shapely.orient_polygons(geom, exterior_cw=False)
+    return shapely.orient_polygons(geom, exterior_cw=False), valid
 
 
 def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None = None) -> Tightening:
@@ -1127,8 +1134,8 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
         disk_loops = [_DiskLoop(np.full(len(c), -1), s.astype(np.int64), c, phi, ln, sw, r_l)
                       for c, s, phi, ln, sw in fast]
         loops = [L.to_loop(frame) for L in disk_loops]
-        geometry = _assemble(loops, tol)
-        if not geometry.is_valid or geometry.is_empty:
+        geometry, valid = _assemble_valid(loops, tol)
+        if not (valid or geometry.is_valid) or geometry.is_empty:
             fast = None
     if fast is None:
         ctx = _Context(S_local, r_l, tol_l)
