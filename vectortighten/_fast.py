@@ -40,8 +40,11 @@ _EXACT = 1e-9         # relative slack of the exact distance tests (rounding onl
 
 
 def _clean_ring(c: np.ndarray):
-    """Ring vertices without the closing point, repeated points or straight (collinear) vertices, and the
-    vectors and lengths of the edges that leave them (None if fewer than three vertices are left)."""
+    """Clean a ring: its vertices, and the vectors and lengths of the edges that leave them.
+
+    The closing point, repeated points and straight (collinear) vertices are left out; the edges are None
+    if fewer than three vertices are left.
+    """
     pts = c[:-1]
     keep = (pts[:, 0] != np.roll(pts[:, 0], -1)) | (pts[:, 1] != np.roll(pts[:, 1], -1))
     if not keep.all():
@@ -69,20 +72,21 @@ class _Rings:
     """Per-vertex data of all rings of S, concatenated (vertex i, edge i from vertex i to next[i])."""
 
     def __init__(self, S, r: float):
-        rings = [_clean_ring(shapely.get_coordinates(ring)) for ring in shapely.get_rings(shapely.get_parts(S))]
+        rings = [_clean_ring(shapely.get_coordinates(ring))
+                 for ring in shapely.get_rings(shapely.get_parts(S))]
         self.ok = all(len(v) >= 3 for v, _, _ in rings)
         if not self.ok:
             return
         self.r = r
         sizes = np.array([len(v) for v, _, _ in rings])
         start = np.cumsum(sizes) - sizes
-        self.slices = [slice(a, a + n) for a, n in zip(start.tolist(), sizes.tolist())]
+        self.slices = [slice(a, a + n) for a, n in zip(start.tolist(), sizes.tolist(), strict=True)]
         self._first, self._last = start, start + sizes - 1
         nv = int(sizes.sum())
         if len(rings) == 1:
             self.v, u, self.ell = rings[0]
         else:
-            self.v, u, self.ell = (np.concatenate(part) for part in zip(*rings))
+            self.v, u, self.ell = (np.concatenate(part) for part in zip(*rings, strict=True))
         self.next = np.arange(1, nv + 1)
         self.next[self._last] = self._first
         self.prev = np.arange(-1, nv - 1)
@@ -234,11 +238,11 @@ def fast_disk_loops(S, r: float, q: int, init: str):
 # is no nearer), so q also lies on the piece of L that comes from z: again two pieces of L that are not
 # consecutive meet. If none come within `_CONTACT`, no arc enters the core.
 #
-# The checks look at the pieces near each piece only (`_separated`: balls a few pieces wide), so they cost
-# about as much as building a k-d tree, however closely a ring runs at distance r from another part of S;
-# the exact tests' balls of radius r graze the ring at every vertex (~45 s for a million vertices). When a
-# check fails (pieces that touch or nearly do, very short pieces) the caller runs the exact distance tests
-# instead, which decide.
+# The checks look at the pieces near each piece only (`_separated`: boxes of blocks of consecutive pieces,
+# whole runs of a chain that goes one way settled at once), so they cost a few sweeps over the pieces,
+# however closely a ring runs at distance r from another part of S; the exact tests' balls of radius r
+# graze the ring at every vertex (~45 s for a million vertices). When a check fails (pieces that touch or
+# nearly do, very short pieces) the caller runs the exact distance tests instead, which decide.
 
 _CONTACT = 1e-7       # pieces closer than this (× r) count as touching: 100× the exact tests' slack
 
@@ -378,13 +382,14 @@ def _near_pairs(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, 
     * their boxes are more than ``eps`` apart, or
     * both lie in a *straight window*: two neighbouring blocks of one ring whose pieces' chain runs in one
       direction. Let m_k be the midpoints, s_k = m_{k+1} − m_k the steps between them and ρ_k the disks'
-      radii. If the steps of the window turn by β < π/2 in all (the sum of the angles between consecutive
-      steps), all of them lie within β of the direction d of its first one, and for pieces i < j of the
-      window ``|m_j − m_i| ≥ (m_j − m_i)·d ≥ cos β · Σ_{i≤k<j} |s_k|``. For j ≥ i + 3 the sum holds
-      |s_i| + |s_{i+1}| + |s_{j−1}|, for j = i + 2 the first two; the window's minima and maxima of
-      ``|s_i| + |s_{i+1}| − ρ_i``, ``|s_{j−1}| − ρ_j``, ``|s_i| + |s_{i+1}| − ρ_i − ρ_{i+2}`` (pairs with an
-      arc between them are exempt) bound every pair's ``|m_j − m_i| − ρ_i − ρ_j`` from below. If that
-      bound exceeds ``eps``, no two pieces of the window other than neighbours are near.
+      radii. If the angles of the window's steps span 2β < π, all of them lie within β of the middle
+      direction d, and for pieces i < j of the window ``|m_j − m_i| ≥ (m_j − m_i)·d ≥ cos β · Σ_{i≤k<j}
+      |s_k|``. For j ≥ i + 3 the sum holds |s_i| + |s_{i+1}| + |s_{j−1}|, for j = i + 2 the first two.
+      As ``cos β · x − ρ ≥ (x − ρ) − (1 − cos β)·x``, the window's minima of ``|s_i| + |s_{i+1}| − ρ_i``,
+      ``|s_{j−1}| − ρ_j`` and ``|s_i| + |s_{i+1}| − ρ_i − ρ_{i+2}`` (but for pieces with an arc between
+      them, which are exempt) and maxima of ``|s_i| + |s_{i+1}|`` and ``|s_{j−1}|`` bound every pair's
+      ``|m_j − m_i| − ρ_i − ρ_j`` from below. If that bound exceeds ``eps``, no two pieces of the window
+      other than neighbours are near.
 
     On pieces strung along smooth curves the top level's windows are straight, and the search ends
     there; it goes down only where the chain turns sharply or comes back near itself. Every bound is
@@ -469,10 +474,12 @@ class _Pieces:
         return y
 
     def each_term(self):
-        """``(name, array)`` for every term of every piece, one at a time: the direction ``psi`` of the step
-        s_i = m_{i+1} − m_i, ``two`` = |s_i| + |s_{i+1}|, ``back`` = |s_{i−1}|, ``two_rho`` = two − ρ_i,
-        ``back_rho`` = back − ρ_i and ``span`` = two − ρ_i − ρ_{i+2} (∞ with an arc between). An array is
-        overwritten once the next is asked for."""
+        """Yield ``(name, array)`` for every term of every piece, one term at a time.
+
+        The terms: the direction ``psi`` of the step s_i = m_{i+1} − m_i, ``two`` = |s_i| + |s_{i+1}|,
+        ``back`` = |s_{i−1}|, ``two_rho`` = two − ρ_i, ``back_rho`` = back − ρ_i and ``span`` =
+        two − ρ_i − ρ_{i+2} (∞ with an arc between). An array is overwritten once the next is asked for.
+        """
         mx, my, rho = self.mx, self.my, self.rho
         sx, sy = self._ahead(mx, np.subtract), self._ahead(my, np.subtract)
         yield "psi", np.arctan2(sy, sx)
@@ -504,7 +511,7 @@ class _Pieces:
         return y
 
     def terms_at(self, idx: np.ndarray) -> dict:
-        """The terms (see `each_term`) of the pieces ``idx``, from their neighbours' midpoints."""
+        """Make the terms (see `each_term`) of the pieces ``idx`` from their neighbours' midpoints."""
         mx, my, rho = self.mx, self.my, self.rho
         # The piece before: the previous one, or at a ring's first piece the ring's last.
         p, j = idx - 1, self._nxt[idx]
@@ -540,9 +547,12 @@ _TERMS = {"psi": None, "two": np.maximum, "back": np.maximum, "back_rho": np.min
 
 
 class _Blocks:
-    """Blocks of 2**level consecutive pieces (all of them, or those numbered ``ids``, sorted): the box of
-    their pieces' disks, the range of their steps' directions, the minima and maxima of the window terms
-    (see `_near_pairs`) and the ring of their first and of their last piece. Looked up by block number."""
+    """Blocks of 2**level consecutive pieces: all of them, or those numbered ``ids`` (sorted).
+
+    Each has the box of its pieces' disks, the range of its steps' directions, the minima and maxima of
+    the window terms (see `_near_pairs`) and the ring of its first and of its last piece. Looked up by
+    block number.
+    """
 
     def __init__(self, pieces: _Pieces, level: int, ids: np.ndarray | None = None, keep: bool = False):
         size, m = 1 << level, pieces.m
@@ -592,7 +602,8 @@ class _Blocks:
         if self.ids is None:
             if self._straight is None:
                 self._straight = np.zeros(self.n + 1, bool)
-                self._straight[:self.n - 1] = self._windows(np.arange(self.n - 1), np.arange(1, self.n), slack)
+                every = np.arange(self.n - 1)
+                self._straight[:self.n - 1] = self._windows(every, every + 1, slack)
             return self._straight[k]            # k = −1 reads the last entry: False
         ok = (k >= 0) & (k + 1 < self.n)
         out = np.zeros(len(k), bool)

@@ -532,16 +532,20 @@ class Loop:
         return terms
 
     def _rows(self):
-        """Where the arcs and where the segments are among the rows: slices when they alternate, arc
-        first (as `_from_disk_arrays` makes them), else index arrays."""
+        """Find the rows of the arcs and of the segments.
+
+        Slices when they alternate, arc first (as `_from_disk_arrays` makes them), else index arrays.
+        """
         arc = self._arc
         if len(arc) % 2 == 0 and arc[0::2].all() and not arc[1::2].any():
             return slice(0, None, 2), slice(1, None, 2)
         return np.flatnonzero(arc), np.flatnonzero(~arc)
 
     def _orientation(self) -> int:
-        """The sign of `area` (+1, −1 or 0), exact, without its compensated sum where rounding cannot
-        change the sign."""
+        """Give the sign of `area` (+1, −1 or 0), exactly.
+
+        The compensated sum is left for `area` where rounding cannot change the sign of a plain one.
+        """
         if self._area is None:
             terms = self._terms = self._area_terms()
             total = float(terms.sum())

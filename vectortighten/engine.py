@@ -270,7 +270,7 @@ class _DiskLoop:
         return out
 
     def to_loop(self, frame: _Frame | None = None) -> Loop:
-        """The exact loop; with ``frame``, in world coordinates (``frame.loop_to_world(self.to_loop())``)."""
+        """Build the exact loop; with ``frame``, in world coordinates (as ``frame.loop_to_world``)."""
         if self.n == 1:
             loop = Loop.circle(self.c[0], self.r, ccw=self.sweep[0] > 0)
             return loop if frame is None else frame.loop_to_world(loop)
@@ -1029,10 +1029,13 @@ def _assemble(loops: list[Loop], tol: float):
 
 
 def _assemble_valid(loops: list[Loop], tol: float):
-    """`_assemble`, and True if the geometry is known to be valid (found so before its rings were
-    oriented, which validity does not depend on), None if it is not known."""
+    """Make `_assemble`'s geometry, and tell whether it is known to be valid.
+
+    True if it was found valid before its rings were oriented (which validity does not depend on), None
+    if that is not known.
+    """
     sign = [lp._orientation() for lp in loops]
-    ring = [lp.sample(tol) if s else None for lp, s in zip(loops, sign)]
+    ring = [lp.sample(tol) if s else None for lp, s in zip(loops, sign, strict=True)]
     outers = [(k, Polygon(ring[k])) for k in range(len(loops)) if sign[k] > 0]
     holes = [(k, Polygon(ring[k])) for k in range(len(loops)) if sign[k] < 0]
     if not outers:
@@ -1051,7 +1054,7 @@ def _assemble_valid(loops: list[Loop], tol: float):
             if best is not None:
                 shells[best][1].append(n)
     polys = []
-    for (k, shell), (_, hs) in zip(outers, shells):
+    for (k, shell), (_, hs) in zip(outers, shells, strict=True):
         # The same coordinates as the loops' samples: a shell without holes is used as it is.
         polys.append(Polygon(ring[k], [ring[holes[n][0]] for n in hs]) if hs else shell)
     geom = polys[0] if len(polys) == 1 else MultiPolygon(polys)
