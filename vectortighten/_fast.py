@@ -363,6 +363,7 @@ def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, f
 
 
 _TOP_BLOCKS = 8192    # `_near_pairs` starts from blocks of at least 32 pieces, and about this many blocks
+_EXPAND = 1 << 14     # … and pairs all their pieces at once when that makes no more pairs than this
 _ROUNDING = 1e-12     # × the chain's extent: more than the rounding of every bound `_near_pairs` prunes by
 
 
@@ -410,7 +411,8 @@ def _near_pairs(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, 
     for k in range(0, len(a_top), batch):
         a, b = a_top[k:k + batch], b_top[k:k + batch]
         for level in range(top, 0, -1):
-            if len(a) == 0:
+            if len(a) * (1 << (2 * level)) <= _EXPAND:
+                a, b = _pieces_of(a, b, level, m)    # few pairs left: all their pieces' pairs at once
                 break
             n = -(-m >> level)
             if level in full or 8 * len(a) > n:
@@ -634,6 +636,10 @@ class _Blocks:
 def _top_pairs(lv: _Blocks, slack: float):
     """Every block paired with itself and with each block whose box comes within ``slack`` of its own."""
     n = lv.n
+    if n <= 64:                                 # few blocks: every pair of them
+        a, b = np.triu_indices(n)
+        keep = (a == b) | ~lv.apart(a, b, slack)
+        return a[keep], b[keep]
     cx, cy = 0.5 * (lv.x0 + lv.x1), 0.5 * (lv.y0 + lv.y1)
     ext = np.maximum(lv.x1 - lv.x0, lv.y1 - lv.y0) * 0.5 * (1.0 + 1e-12)
     h = max(min(float(ext.max()), 2.0 * float(np.percentile(ext, 95))), slack)
@@ -658,6 +664,16 @@ def _top_pairs(lv: _Blocks, slack: float):
     return a[keep], b[keep]
 
 
+def _pieces_of(a: np.ndarray, b: np.ndarray, level: int, m: int):
+    """The pairs ``i < j`` of pieces (of m) of the pairs of blocks a ≤ b of this level."""
+    size = 1 << level
+    i = (a[:, None] * size + np.arange(size))[:, :, None]
+    j = (b[:, None] * size + np.arange(size))[:, None, :]
+    i, j = np.broadcast_arrays(i, j)
+    keep = (i < j) & (j < m)
+    return i[keep], j[keep]
+
+
 def _children(a: np.ndarray, b: np.ndarray, n: int):
     """Pairs of blocks split into the pairs of their halves (blocks 2a, 2a + 1 of the level below, of n)."""
     same = a == b
@@ -668,14 +684,6 @@ def _children(a: np.ndarray, b: np.ndarray, n: int):
     no = np.zeros(len(a), bool)
     keep = ~np.concatenate([no, no, same, no]) & (ca < n) & (cb < n)
     return ca[keep], cb[keep]
-
-
-def _disks_meet(x: np.ndarray, y: np.ndarray, rad: np.ndarray, i: np.ndarray, j: np.ndarray,
-                eps: float) -> np.ndarray:
-    """Whether the disks (x, y, rad) i and j come within ``eps`` of each other, pair by pair."""
-    dx, dy = x[i] - x[j], y[i] - y[j]
-    reach = rad[i] + rad[j] + eps
-    return dx * dx + dy * dy <= reach * reach
 
 
 def _segment_distances(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
