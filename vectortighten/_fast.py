@@ -665,7 +665,7 @@ def _top_pairs(lv: _Blocks, slack: float):
 
 
 def _pieces_of(a: np.ndarray, b: np.ndarray, level: int, m: int):
-    """The pairs ``i < j`` of pieces (of m) of the pairs of blocks a ≤ b of this level."""
+    """List the pairs ``i < j`` of pieces (of m) of the pairs of blocks a ≤ b of this level."""
     size = 1 << level
     i = (a[:, None] * size + np.arange(size))[:, :, None]
     j = (b[:, None] * size + np.arange(size))[:, None, :]
