@@ -145,9 +145,13 @@ class _Rings:
             mine = (self.side == side)[:, None]
             a = self.v + shift
             np.copyto(a, self.c, where=mine)
-            b = self._succ(self.v)
-            b += shift
-            np.copyto(b, self._succ(self.c), where=self._succ(mine))
+            # b = v[next] + shift, but c[next] where next's disk is on this side: in one sweep, then at
+            # the rings' ends.
+            b = np.empty_like(a)
+            np.add(self.v[1:], shift[:-1], out=b[:-1])
+            np.copyto(b[:-1], self.c[1:], where=mine[1:])
+            last, first = self._last, self._first
+            b[last] = np.where(mine[first], self.c[first], self.v[first] + shift[last])
             self._offsets[side] = (a, b)
         return self._offsets[side]
 
