@@ -184,3 +184,54 @@ def test_tangent_directions_and_sweeps_of_a_square_of_disks():
     # With a reference near −π/2 a disk that should not be touched shows a negative sweep.
     sw2 = arc_sweeps(phi, np.ones(4), reference=[-2.0, 1.5, 1.5, 1.5])
     assert sw2[0] == pytest.approx(math.pi / 2 - 2 * math.pi)
+
+
+def _disk_ring(n, r, seed):
+    """Disks on a wavy ring, all turned left around (a star-shaped polygon with rounded corners)."""
+    rng = np.random.default_rng(seed)
+    t = np.sort(rng.uniform(0, 2 * np.pi, n))
+    rad = 10 * (1 + 0.05 * np.sin(5 * t))
+    c = np.column_stack([rad * np.cos(t), rad * np.sin(t)])
+    s = np.ones(n)
+    phi, length, _ = tangent_directions(c, s, r)
+    return c, s, phi, length, arc_sweeps(phi, s)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_loop_from_disks_built_in_world_coordinates_is_the_affine_image(seed):
+    # The fast path builds its loops in world coordinates at once: the same numbers, bit for bit, as
+    # building them in the local frame and mapping them.
+    c, s, phi, length, sweeps = _disk_ring(50 + 40 * seed, 0.3, seed)
+    affine = (17.25, -3.5, 1e6 / 7)
+    direct = Loop._from_disk_arrays(c, s, 0.3, phi, length, sweeps, affine)
+    mapped = Loop._from_disk_arrays(c, s, 0.3, phi, length, sweeps).affine(*affine)
+    assert np.array_equal(direct._arc, mapped._arc)
+    assert direct._data.tobytes() == mapped._data.tobytes()
+    # Zero-length tangents are left out either way.
+    before = len(direct)
+    length[np.flatnonzero(length > 0)[0]] = 0.0
+    direct = Loop._from_disk_arrays(c, s, 0.3, phi, length, sweeps, affine)
+    mapped = Loop._from_disk_arrays(c, s, 0.3, phi, length, sweeps).affine(*affine)
+    assert len(direct) == len(mapped) == before - 1
+    assert direct._data.tobytes() == mapped._data.tobytes()
+
+
+@pytest.mark.parametrize("tol", [1e-6, 1e-2, 0.5])
+def test_sampling_the_same_whatever_the_rows_order(tol):
+    # Alternating arcs and segments (read as strided views) and the same pieces given one by one.
+    c, s, phi, length, sweeps = _disk_ring(200, 0.4, 1)
+    loop = Loop._from_disk_arrays(c, s, 0.4, phi, length, sweeps)
+    same = Loop(loop.pieces)
+    assert np.array_equal(loop.sample(tol), same.sample(tol))
+    assert loop._area_terms().tobytes() == same._area_terms().tobytes()
+    assert loop.area == same.area
+
+
+def test_orientation_is_the_sign_of_the_exact_area():
+    c, s, phi, length, sweeps = _disk_ring(100, 0.4, 2)
+    loop = Loop._from_disk_arrays(c, s, 0.4, phi, length, sweeps)
+    assert loop._orientation() == 1 and loop.reversed()._orientation() == -1
+    assert loop.area > 0 and loop.reversed().area < 0
+    # A closed path whose area is exactly zero (a segment there and back): the compensated sum decides.
+    flat = Loop([Segment((0, 0), (1e8, 1)), Segment((1e8, 1), (0, 0))])
+    assert flat._orientation() == 0 and flat.area == 0.0

@@ -240,3 +240,83 @@ def test_verify_flags_a_fast_path_loop_that_is_not_the_certified_one():
     c[7] += 1e-6                                    # one disk moved by a millionth of the shape's size
     T._cache["_exact"] = (ctx, [_DiskLoop(L.cid, L.side, c, L.phi, L.length, L.sweep, L.r, L.converged)], args)
     assert any("not the one the fast path's exact tests certify" in p for p in T.verify())
+
+
+def _near_pairs_all(A, B, fat, nxt, first, eps):
+    mx, my = 0.5 * (A[:, 0] + B[:, 0]), 0.5 * (A[:, 1] + B[:, 1])
+    found = list(_fast._near_pairs(A, B, fat, nxt, first, mx, my, eps))
+    if not found:
+        return set()
+    i, j = (np.concatenate(x).tolist() for x in zip(*found, strict=True))
+    return set(zip(i, j, strict=True))
+
+
+def _meeting_pairs(A, B, fat, nxt, eps):
+    """Pairs i < j, other than neighbours and pieces with an arc between them, whose disks come within eps."""
+    mid = 0.5 * (A + B)
+    rho = 0.5 * np.hypot(*(B - A).T) + fat
+    i, j = np.triu_indices(len(A), 1)
+    reach = rho[i] + rho[j] + eps
+    meet = ((mid[i] - mid[j]) ** 2).sum(axis=1) <= reach * reach
+    across = np.where(fat[nxt] > 0, nxt[nxt], nxt)
+    meet &= (nxt[i] != j) & (nxt[j] != i) & (across[i] != j) & (across[j] != i)
+    return set(zip(i[meet].tolist(), j[meet].tolist(), strict=True))
+
+
+def _smooth_chains(sizes, seed):
+    """Dense rings close to circles, pieces of uneven length, every other piece at random a short arc:
+    most windows of blocks are straight, the search ends at the top level but for the rings' seams."""
+    rng = np.random.default_rng(seed)
+    A, B, fat, nxt, first = [], [], [], [], []
+    start = 0
+    for n in sizes:
+        t = np.sort(rng.uniform(0, 2 * np.pi, n))
+        rad = 5 * (1 + 0.02 * np.sin(3 * t))
+        pts = np.column_stack([rad * np.cos(t), rad * np.sin(t)]) + rng.normal(size=2) * 8
+        A.append(pts)
+        B.append(np.roll(pts, -1, axis=0))
+        is_arc = (np.arange(n) % 2 == 1) & (rng.random(n) < 0.5)
+        fat.append(np.where(is_arc, rng.uniform(1e-9, 1e-4, n), 0.0))
+        nxt.append(start + (np.arange(n) + 1) % n)
+        first.append(np.full(n, start))
+        start += n
+    return map(np.concatenate, (A, B, fat, nxt, first))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.integers(3, 400), min_size=1, max_size=3), st.integers(0, 2**32 - 1), st.floats(0.0, 0.3),
+       st.booleans())
+def test_near_pairs_misses_no_pair_whose_disks_meet(sizes, seed, long_share, smooth):
+    # The search may prune only pairs whose disks stay apart: compared with all pairs.
+    chains = _smooth_chains(sizes, seed) if smooth else _random_chains(sizes, seed, long_share)
+    A, B, fat, nxt, first = chains
+    for eps in (1e-9, 1e-3, 0.05):
+        assert _meeting_pairs(A, B, fat, nxt, eps) <= _near_pairs_all(A, B, fat, nxt, first, eps)
+        assert _fast._separated(A, B, fat, nxt, first, eps) == _separated_brute(A, B, fat, nxt, eps)
+
+
+def test_window_terms_of_a_few_pieces_are_those_of_all():
+    A, B, fat, nxt, first = _random_chains([5, 40, 3, 17], 11, 0.1)
+    mx, my = 0.5 * (A[:, 0] + B[:, 0]), 0.5 * (A[:, 1] + B[:, 1])
+    pieces = _fast._Pieces(A, B, fat, nxt, first, mx, my)
+    every = {name: x.copy() for name, x in pieces.each_term()}
+    idx = np.array([0, 4, 5, 6, 44, 45, 47, 64])
+    some = pieces.terms_at(idx)
+    for name, x in every.items():
+        assert np.array_equal(x[idx], some[name]), name
+
+
+def test_dense_ring_settled_at_the_top_level():
+    # A 200k-piece smooth ring: the straight windows settle nearly every pair of blocks at once.
+    S = Polygon(wavy(100_000))
+    S_local, D = _rings(S, 0.5)
+    t = D.t
+    chain = _fast._chain(D, None, D.v - t[:, None] * D._pred(D.u), D.v + t[:, None] * D.u,
+                         D.r * (1 - np.cos(0.5 * D.theta)), D.v, D._succ(D.v))
+    A, B, fat, nxt, first = chain
+    assert len(A) == 200_000
+    across = np.where(fat[nxt] > 0, nxt[nxt], nxt)
+    found = [(i, j) for i, j in _near_pairs_all(A, B, fat, nxt, first, _fast._CONTACT * D.r)
+             if j not in (nxt[i], across[i]) and i not in (nxt[j], across[j])]
+    assert len(found) < 100
+    assert _fast._separated(*chain, _fast._CONTACT * D.r)

@@ -39,55 +39,89 @@ _TWO_PI = 2.0 * math.pi
 _EXACT = 1e-9         # relative slack of the exact distance tests (rounding only)
 
 
-def _clean_ring(c: np.ndarray) -> np.ndarray:
-    """Ring vertices without the closing point, repeated points or straight (collinear) vertices."""
+def _clean_ring(c: np.ndarray):
+    """Clean a ring: its vertices, and the vectors and lengths of the edges that leave them.
+
+    The closing point, repeated points and straight (collinear) vertices are left out; the edges are None
+    if fewer than three vertices are left.
+    """
     pts = c[:-1]
-    keep = np.any(pts != np.roll(pts, -1, axis=0), axis=1)
-    pts = pts[keep]
+    keep = (pts[:, 0] != np.roll(pts[:, 0], -1)) | (pts[:, 1] != np.roll(pts[:, 1], -1))
+    if not keep.all():
+        pts = pts[keep]
     for _ in range(3):
         if len(pts) < 3:
-            return pts
-        u = pts - np.roll(pts, 1, axis=0)
-        v = np.roll(pts, -1, axis=0) - pts
+            return pts, None, None
+        v = np.roll(pts, -1, axis=0) - pts          # edge i, from vertex i to the next
+        u = np.roll(v, 1, axis=0)                   # the edge arriving at vertex i
         cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
-        dot = (u * v).sum(axis=1)
-        sine = cross / (np.hypot(*u.T) * np.hypot(*v.T))
+        dot = u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1]
+        ell = np.hypot(v[:, 0], v[:, 1])
+        sine = cross / (np.roll(ell, 1) * ell)
         straight = (np.abs(sine) < ANGLE_ZERO) & (dot > 0)
         if not straight.any():
-            return pts
+            return pts, v, ell
         pts = pts[~straight]
-    return pts
+    if len(pts) < 3:
+        return pts, None, None
+    v = np.roll(pts, -1, axis=0) - pts
+    return pts, v, np.hypot(v[:, 0], v[:, 1])
 
 
 class _Rings:
     """Per-vertex data of all rings of S, concatenated (vertex i, edge i from vertex i to next[i])."""
 
     def __init__(self, S, r: float):
-        rings = [_clean_ring(shapely.get_coordinates(ring)) for ring in shapely.get_rings(shapely.get_parts(S))]
-        self.ok = all(len(v) >= 3 for v in rings)
+        rings = [_clean_ring(shapely.get_coordinates(ring))
+                 for ring in shapely.get_rings(shapely.get_parts(S))]
+        self.ok = all(len(v) >= 3 for v, _, _ in rings)
         if not self.ok:
             return
         self.r = r
-        sizes = [len(v) for v in rings]
-        start = np.cumsum([0] + sizes[:-1])
-        self.slices = [slice(a, a + n) for a, n in zip(start, sizes)]
-        self.v = np.concatenate(rings)
-        self.next = np.concatenate([a + (np.arange(n) + 1) % n for a, n in zip(start, sizes)])
-        self.prev = np.concatenate([a + (np.arange(n) - 1) % n for a, n in zip(start, sizes)])
-        u = self.v[self.next] - self.v
-        self.ell = np.hypot(*u.T)
-        self.u = u / self.ell[:, None]                                 # direction of edge i
-        self.n = np.column_stack([-self.u[:, 1], self.u[:, 0]])         # its left normal (into S)
-        u_in = self.u[self.prev]
-        cross = u_in[:, 0] * self.u[:, 1] - u_in[:, 1] * self.u[:, 0]
-        dot = (u_in * self.u).sum(axis=1)
+        sizes = np.array([len(v) for v, _, _ in rings])
+        start = np.cumsum(sizes) - sizes
+        self.slices = [slice(a, a + n) for a, n in zip(start.tolist(), sizes.tolist(), strict=True)]
+        self._first, self._last = start, start + sizes - 1
+        nv = int(sizes.sum())
+        if len(rings) == 1:
+            self.v, u, self.ell = rings[0]
+        else:
+            self.v, u, self.ell = (np.concatenate(part) for part in zip(*rings, strict=True))
+        self.next = np.arange(1, nv + 1)
+        self.next[self._last] = self._first
+        self.prev = np.arange(-1, nv - 1)
+        self.prev[self._first] = self._last
+        self.u = u / self.ell[:, None]                                  # direction of edge i
+        ux, uy = self.u[:, 0], self.u[:, 1]
+        self.n = np.column_stack([-uy, ux])                             # its left normal (into S)
+        u_in = self._pred(self.u)
+        cross = u_in[:, 0] * uy - u_in[:, 1] * ux
+        dot = u_in[:, 0] * ux + u_in[:, 1] * uy
         self.theta = np.arctan2(cross, dot)                             # turn at vertex i, left positive
         self.side = np.where(self.theta > 0, 1.0, -1.0)
-        n_in = self.n[self.prev]
-        self.c = self.v + (self.side * r / (1.0 + dot))[:, None] * (n_in + self.n)
+        n_in = self._pred(self.n)
+        self.c = n_in
+        self.c += self.n
+        self.c *= (self.side * r / (1.0 + dot))[:, None]
+        self.c += self.v
         self.t = r * np.tan(np.abs(self.theta) / 2)
-        self.length = self.ell - self.t - self.t[self.next]             # straight piece on edge i
-        self.phi = np.arctan2(self.u[:, 1], self.u[:, 0])
+        self.length = self.ell - self.t - self._succ(self.t)            # straight piece on edge i
+        self.phi = np.arctan2(uy, ux)
+        self._offsets, self._arcs = {}, {}
+
+    def _succ(self, x: np.ndarray) -> np.ndarray:
+        """``x[next]``, copied in one sweep but at the rings' ends."""
+        y = np.empty_like(x)
+        y[:-1] = x[1:]
+        y[self._last] = x[self._first]
+        return y
+
+    def _pred(self, x: np.ndarray) -> np.ndarray:
+        """``x[prev]``, copied in one sweep but at the rings' starts."""
+        y = np.empty_like(x)
+        y[1:] = x[:-1]
+        y[self._first] = x[self._last]
+        return y
 
     @property
     def vertex_tree(self) -> cKDTree:
@@ -102,10 +136,24 @@ class _Rings:
         At an end whose disk is on the other side, the offset runs to the end of the edge (where the arc
         of radius r around that vertex starts).
         """
-        i, j = np.arange(len(self.v)), self.next
-        a = np.where((self.side[i] == side)[:, None], self.c[i], self.v[i] + side * self.r * self.n)
-        b = np.where((self.side[j] == side)[:, None], self.c[j], self.v[j] + side * self.r * self.n)
-        return np.stack([a, b], axis=1)
+        return np.stack(self._offset_ends(side), axis=1)
+
+    def _offset_ends(self, side: int):
+        """`offsets` as the arrays of their starts and of their ends."""
+        if side not in self._offsets:
+            shift = side * self.r * self.n
+            mine = (self.side == side)[:, None]
+            a = self.v + shift
+            np.copyto(a, self.c, where=mine)
+            # b = v[next] + shift, but c[next] where next's disk is on this side: in one sweep, then at
+            # the rings' ends.
+            b = np.empty_like(a)
+            np.add(self.v[1:], shift[:-1], out=b[:-1])
+            np.copyto(b[:-1], self.c[1:], where=mine[1:])
+            last, first = self._last, self._first
+            b[last] = np.where(mine[first], self.c[first], self.v[first] + shift[last])
+            self._offsets[side] = (a, b)
+        return self._offsets[side]
 
     def arcs(self, side: int):
         """Arcs of radius r around the vertices whose disk is on the other side: centres, start, sweep.
@@ -114,12 +162,14 @@ class _Rings:
         the incoming edge's inward normal to the outgoing one's); for −1 the convex arcs of the grow
         around the convex vertices.
         """
-        k = np.flatnonzero(self.side != side)
-        n_in, n_out = self.n[self.prev[k]], self.n[k]
-        if side < 0:
-            n_in, n_out = -n_in, -n_out
-        start = np.arctan2(n_in[:, 1], n_in[:, 0])
-        return self.v[k], start, self.theta[k]
+        if side not in self._arcs:
+            k = np.flatnonzero(self.side != side)
+            n_in = self.n[self.prev[k]]
+            if side < 0:
+                n_in = -n_in
+            start = np.arctan2(n_in[:, 1], n_in[:, 0])
+            self._arcs[side] = (self.v[k], start, self.theta[k])
+        return self._arcs[side]
 
 
 def fast_disk_loops(S, r: float, q: int, init: str):
@@ -191,11 +241,11 @@ def fast_disk_loops(S, r: float, q: int, init: str):
 # is no nearer), so q also lies on the piece of L that comes from z: again two pieces of L that are not
 # consecutive meet. If none come within `_CONTACT`, no arc enters the core.
 #
-# The checks look at the pieces near each piece only (`_separated`: balls a few pieces wide), so they cost
-# about as much as building a k-d tree, however closely a ring runs at distance r from another part of S;
-# the exact tests' balls of radius r graze the ring at every vertex (~45 s for a million vertices). When a
-# check fails (pieces that touch or nearly do, very short pieces) the caller runs the exact distance tests
-# instead, which decide.
+# The checks look at the pieces near each piece only (`_separated`: boxes of blocks of consecutive pieces,
+# whole runs of a chain that goes one way settled at once), so they cost a few sweeps over the pieces,
+# however closely a ring runs at distance r from another part of S; the exact tests' balls of radius r
+# graze the ring at every vertex (~45 s for a million vertices). When a check fails (pieces that touch or
+# nearly do, very short pieces) the caller runs the exact distance tests instead, which decide.
 
 _CONTACT = 1e-7       # pieces closer than this (× r) count as touching: 100× the exact tests' slack
 
@@ -204,24 +254,32 @@ def _offset_certified(D: _Rings, S, side: int) -> bool:
     """Whether the raw offset curves of this side provably keep distance r from every edge of S."""
     if (D.length <= _CONTACT * D.r).any():
         return False                          # a piece too short for its direction to be sure
-    pieces = D.offsets(side)
+    seg_a, seg_b = D._offset_ends(side)
     centres, start, sweep = D.arcs(side)
     k = np.flatnonzero(D.side != side)        # vertices with an arc, in the order of `_Rings.arcs`
     arc_a = centres + D.r * np.column_stack([np.cos(start), np.sin(start)])
     arc_b = centres + D.r * np.column_stack([np.cos(start + sweep), np.sin(start + sweep)])
-    chain = _chain(D, k, arc_a, arc_b, D.r * (1 - np.cos(0.5 * sweep)), pieces[:, 0], pieces[:, 1])
+    chain = _chain(D, k, arc_a, arc_b, D.r * (1 - np.cos(0.5 * sweep)), seg_a, seg_b)
     if not _separated(*chain, _CONTACT * D.r):
         return False
     # One point of each ring's curve, the start of its first straight piece, decides the sign of f there.
-    p0 = pieces[[sl.start for sl in D.slices], 0]
+    p0 = seg_a[D._first]
     if (shapely.contains_xy(S, p0[:, 0], p0[:, 1]) != (side > 0)).any():
         return False
     limit = D.r * (1 - _EXACT)
     if len(p0) * len(D.v) > 4_000_000:
         return not _closer_than(D, p0, p0, limit)
-    # Few rings: every edge against every point, without building the k-d tree.
-    a, b = D.v, D.v[D.next]
-    return all((_point_segment_distances(x[None, :], a, b) >= limit).all() for x in p0)
+    # Few rings: every edge against every point, without building the k-d tree. An edge whose start is
+    # farther than limit + its length from the point (beyond any rounding) is farther than limit from it.
+    a = D.v
+    reach = (limit + D.ell) * (1 + 1e-9) + 1e-12 * (1.0 + float(np.abs(a).max()))
+    reach *= reach
+    for x in p0:
+        dx, dy = a[:, 0] - x[0], a[:, 1] - x[1]
+        near = np.flatnonzero(dx * dx + dy * dy <= reach)
+        if not (_point_segment_distances(x[None, :], a[near], D.v[D.next[near]]) >= limit).all():
+            return False
+    return True
 
 
 def _rounded_certified(D: _Rings) -> bool:
@@ -232,28 +290,39 @@ def _rounded_certified(D: _Rings) -> bool:
     edges, with the same pieces next to each other, so if this chain does not touch itself neither do they.
     """
     t = D.t
-    arc_a = D.v - t[:, None] * D.u[D.prev]
+    arc_a = D.v - t[:, None] * D._pred(D.u)
     arc_b = D.v + t[:, None] * D.u
     fat = D.r * (1 - np.cos(0.5 * D.theta))
-    return _separated(*_chain(D, np.arange(len(D.v)), arc_a, arc_b, fat, D.v, D.v[D.next]), _CONTACT * D.r)
+    return _separated(*_chain(D, None, arc_a, arc_b, fat, D.v, D._succ(D.v)), _CONTACT * D.r)
 
 
-def _chain(D: _Rings, k: np.ndarray, arc_a, arc_b, arc_fat, seg_a, seg_b):
-    """One closed chain of pieces per ring: at vertex i the arc (if i is in ``k``, sorted) then the segment
-    on edge i. Returns chord ends ``A``, ``B``, how far each piece may stray from its chord (``fat``, the
-    sagitta of an arc; > 0 marks the arcs), the index of the next piece of the same ring and of the first
-    piece of each piece's ring."""
+def _chain(D: _Rings, k, arc_a, arc_b, arc_fat, seg_a, seg_b):
+    """One closed chain of pieces per ring: at vertex i the arc (if i is in ``k``, sorted; every vertex if
+    ``k`` is None) then the segment on edge i. Returns chord ends ``A``, ``B``, how far each piece may
+    stray from its chord (``fat``, the sagitta of an arc; > 0 marks the arcs), the index of the next piece
+    of the same ring and of the first piece of each piece's ring."""
     nv = len(D.v)
-    has_arc = np.zeros(nv, bool)
-    has_arc[k] = True
-    count = 1 + has_arc
-    seg_at = np.cumsum(count) - 1             # index of edge i's segment; its arc, if any, just before
-    m = int(count.sum())
-    A, B, fat = np.empty((m, 2)), np.empty((m, 2)), np.zeros(m)
-    A[seg_at], B[seg_at] = seg_a, seg_b
-    A[seg_at[k] - 1], B[seg_at[k] - 1], fat[seg_at[k] - 1] = arc_a, arc_b, np.maximum(arc_fat, 1e-300)
+    # Ends stored a coordinate at a time (Fortran order): `_separated` reads them so.
+    if k is None:
+        m = 2 * nv
+        A, B, fat = np.empty((m, 2), order="F"), np.empty((m, 2), order="F"), np.zeros(m)
+        A[0::2], A[1::2], B[0::2], B[1::2] = arc_a, seg_a, arc_b, seg_b
+        fat[0::2] = np.maximum(arc_fat, 1e-300)
+        starts = 2 * D._first
+    else:
+        has_arc = np.zeros(nv, bool)
+        has_arc[k] = True
+        count = 1 + has_arc
+        seg_at = np.cumsum(count) - 1             # index of edge i's segment; its arc, if any, just before
+        m = int(seg_at[-1]) + 1
+        A, B, fat = np.empty((m, 2), order="F"), np.empty((m, 2), order="F"), np.zeros(m)
+        arc_at = seg_at[k] - 1
+        for X, seg, arc in ((A, seg_a, arc_a), (B, seg_b, arc_b)):
+            for col in (0, 1):                  # a coordinate at a time: several times faster than rows
+                X[seg_at, col], X[arc_at, col] = seg[:, col], arc[:, col]
+        fat[arc_at] = np.maximum(arc_fat, 1e-300)
+        starts = seg_at[D._first] - has_arc[D._first]
     nxt = np.arange(1, m + 1)
-    starts = np.array([seg_at[sl.start] - has_arc[sl.start] for sl in D.slices])
     nxt[np.append(starts[1:], m) - 1] = starts        # the last piece of a ring is followed by its first
     first = np.repeat(starts, np.diff(np.append(starts, m)))
     return A, B, fat, nxt, first
@@ -266,75 +335,359 @@ def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, f
     Piece i lies within ``fat[i]`` of the segment A[i]→B[i] (``fat > 0`` marks an arc); the distance
     between two pieces is bounded below by that of their segments minus both ``fat``. The two segments on
     either side of an arc are exempt too: they are tangent to its circle at its ends and run away from each
-    other (its sweep is below π), so they are the arc's chord apart, however short it is.
+    other (its sweep is below π), so they are the arc's chord apart, however short it is. The pieces of a
+    ring are stored one after another (``nxt[i] = i + 1`` but at the ring's last piece, whose ``nxt`` is
+    its first, ``first[i]``).
 
-    Candidates: consecutive pieces are paired (0-1, 2-3, … of each ring) and each pair bounded by a disk in
-    a k-d tree (half as many points as pieces, and no neighbours to wade through). Two consecutive pairs
-    hold, besides neighbours, only pieces two apart and the head of one with the mate of the next, three
-    apart: those are paired by index. The few pieces much longer than the rest go to an STRtree.
+    Each piece is bounded by the disk around its chord's midpoint of radius half the chord plus ``fat``;
+    two pieces whose disks are more than ``eps`` apart pass. The pairs whose disks come nearer get the
+    segment test: all of them, found by a search that only prunes pairs whose disks provably stay apart
+    (`_near_pairs`).
+    """
+    mx, my = 0.5 * (A[:, 0] + B[:, 0]), 0.5 * (A[:, 1] + B[:, 1])
+    # Batch by batch: a chain that touches itself is usually found out in the first.
+    for i, j in _near_pairs(A, B, fat, nxt, first, mx, my, eps):
+        # Neighbours are exempt, and so are the two pieces on either side of an arc.
+        ni, nj = nxt[i], nxt[j]
+        across_i, across_j = np.where(fat[ni] > 0, nxt[ni], ni), np.where(fat[nj] > 0, nxt[nj], nj)
+        keep = (ni != j) & (nj != i) & (across_i != j) & (across_j != i)
+        i, j = i[keep], j[keep]
+        rho = 0.5 * np.hypot(B[i, 0] - A[i, 0], B[i, 1] - A[i, 1]) + fat[i]
+        rho_j = 0.5 * np.hypot(B[j, 0] - A[j, 0], B[j, 1] - A[j, 1]) + fat[j]
+        dx, dy = mx[i] - mx[j], my[i] - my[j]
+        reach = rho + rho_j + eps
+        keep = dx * dx + dy * dy <= reach * reach
+        i, j = i[keep], j[keep]
+        if len(i):
+            gap = _segment_distances(A[i], B[i], A[j], B[j]) - fat[i] - fat[j]
+            if not (gap >= eps).all():
+                return False
+    return True
+
+
+_TOP_BLOCKS = 8192    # `_near_pairs` starts from blocks of at least 32 pieces, and about this many blocks
+_EXPAND = 1 << 14     # … and pairs all their pieces at once when that makes no more pairs than this
+_ROUNDING = 1e-12     # × the chain's extent: more than the rounding of every bound `_near_pairs` prunes by
+
+
+def _near_pairs(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, first: np.ndarray,
+                mx: np.ndarray, my: np.ndarray, eps: float):
+    """Pairs ``i < j`` of pieces of `_separated`'s chain that may be ``eps`` or less apart, in batches.
+
+    Yields arrays ``(i, j)``: every pair whose bounding disks (midpoint ``(mx, my)``, radius half the chord
+    plus ``fat``) come within ``eps`` of each other is among them, but for neighbours and pieces with an
+    arc between them; pairs found to be farther apart, beyond any rounding, are left out.
+
+    The search runs down a hierarchy of blocks of consecutive pieces (2**L of them at level L), each with
+    the box of its pieces' disks. It starts from every block of the top level paired with itself and with
+    the blocks whose boxes come within ``eps`` of its own (a k-d tree over the boxes' centres), and splits
+    a pair of blocks into the pairs of their halves, down to pieces, unless
+
+    * their boxes are more than ``eps`` apart, or
+    * both lie in a *straight window*: two neighbouring blocks of one ring whose pieces' chain runs in one
+      direction. Let m_k be the midpoints, s_k = m_{k+1} − m_k the steps between them and ρ_k the disks'
+      radii. If the angles of the window's steps span 2β < π, all of them lie within β of the middle
+      direction d, and for pieces i < j of the window ``|m_j − m_i| ≥ (m_j − m_i)·d ≥ cos β · Σ_{i≤k<j}
+      |s_k|``. For j ≥ i + 3 the sum holds |s_i| + |s_{i+1}| + |s_{j−1}|, for j = i + 2 the first two.
+      As ``cos β · x − ρ ≥ (x − ρ) − (1 − cos β)·x``, the window's minima of ``|s_i| + |s_{i+1}| − ρ_i``,
+      ``|s_{j−1}| − ρ_j`` and ``|s_i| + |s_{i+1}| − ρ_i − ρ_{i+2}`` (but for pieces with an arc between
+      them, which are exempt) and maxima of ``|s_i| + |s_{i+1}|`` and ``|s_{j−1}|`` bound every pair's
+      ``|m_j − m_i| − ρ_i − ρ_j`` from below. If that bound exceeds ``eps``, no two pieces of the window
+      other than neighbours are near.
+
+    On pieces strung along smooth curves the top level's windows are straight, and the search ends
+    there; it goes down only where the chain turns sharply or comes back near itself. Every bound is
+    computed with a margin (`_ROUNDING`) above its rounding, so that no pair whose disks the caller's test
+    finds to meet is pruned.
     """
     m = len(A)
-    mid = 0.5 * (A + B)
-    mx, my = mid[:, 0].copy(), mid[:, 1].copy()       # (columns: the gathers below run several × faster)
-    rho = 0.5 * np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1]) + fat
-    # Balls as small as the pieces allow: all of them when their lengths are alike.
-    h = max(min(float(rho.max()), 2.0 * float(np.percentile(rho, 95))), eps)
-    short = rho <= h
-    # Pairs of pieces (0-1, 2-3, … of each ring; the last may be single), bounded by a disk each.
-    pos = np.arange(m) - first
-    head = np.flatnonzero(pos % 2 == 0)
-    mate = np.where((head + 1 < m) & (first[np.minimum(head + 1, m - 1)] == first[head]), head + 1, head)
-    # Pieces two apart (unless an arc lies between them) and, from the head of a pair, three apart: all
-    # that two consecutive pairs hold besides neighbours; the many whose disks are apart settled here.
-    i2 = nxt[nxt]
-    two = np.flatnonzero(fat[nxt] == 0)
-    i = np.concatenate([two, head])
-    j = np.concatenate([i2[two], nxt[i2[head]]])
-    near = _disks_meet(mx, my, rho, i, j, eps)
-    pairs = [np.column_stack([i[near], j[near]])]
-    ok = short[head] & short[mate]
-    cx, cy = 0.5 * (mx[head] + mx[mate]), 0.5 * (my[head] + my[mate])
-    rad = np.maximum(np.hypot(mx[head] - cx, my[head] - cy) + rho[head],
-                     np.hypot(mx[mate] - cx, my[mate] - cy) + rho[mate])
-    g = np.flatnonzero(ok)
-    H = float(rad[g].max()) if len(g) else 0.0
-    gp = np.zeros((0, 2), np.int64)
-    if len(g) > 1:
-        gp = g[_tree(np.column_stack([cx[g], cy[g]])).query_pairs(2.0 * H + eps, output_type="ndarray")]
-    a, b = gp.T
-    # Consecutive pairs of pieces are covered above (their pieces are at most three apart).
-    near = _disks_meet(cx, cy, rad, a, b, eps)
-    a, b = a[near], b[near]
-    cons = (nxt[mate[a]] == head[b]) | (nxt[mate[b]] == head[a])
-    a, b = a[~cons], b[~cons]
-    for x in (head, mate):
-        for y in (head, mate):
-            pairs.append(np.column_stack([x[a], y[b]]))
-    # Pieces left out of the tree (long ones, or paired with one): against every piece.
-    loose = np.union1d(head[~ok], mate[~ok])
-    if len(loose):
-        chords = shapely.linestrings(np.stack([A, B], axis=1))
-        i, j = shapely.STRtree(chords).query(chords[loose], predicate="dwithin",
-                                             distance=2.0 * float(fat.max()) + eps)
-        pairs.append(np.column_stack([loose[i], j]))
-    i, j = np.concatenate(pairs).T
-    keep = _disks_meet(mx, my, rho, i, j, eps)
-    i, j = i[keep], j[keep]
-    across = np.where(fat[nxt] > 0, nxt[nxt], nxt)        # the piece after the next arc, if any
-    keep = (i != j) & (nxt[i] != j) & (nxt[j] != i) & (across[i] != j) & (across[j] != i)
-    i, j = i[keep], j[keep]
-    if len(i) == 0:
-        return True
-    gap = _segment_distances(A[i], B[i], A[j], B[j]) - fat[i] - fat[j]
-    return bool((gap >= eps).all())
+    if m < 3:
+        return
+    pieces = _Pieces(A, B, fat, nxt, first, mx, my)
+    top = min(max(5, (m // _TOP_BLOCKS).bit_length()), m.bit_length() - 2)
+    full = {top: _Blocks(pieces, top)}
+    # Every box holds its pieces' ends: the margin scales with the largest coordinate.
+    extent = max(float(np.abs(x).max()) for x in (full[top].x0, full[top].x1, full[top].y0, full[top].y1))
+    slack = eps + _ROUNDING * extent
+    a_top, b_top = _top_pairs(full[top], slack)
+    batch = max(4096, -(-len(a_top) // 8))
+    for k in range(0, len(a_top), batch):
+        a, b = a_top[k:k + batch], b_top[k:k + batch]
+        for level in range(top, 0, -1):
+            if len(a) * (1 << (2 * level)) <= _EXPAND:
+                a, b = _pieces_of(a, b, level, m)    # few pairs left: all their pieces' pairs at once
+                break
+            n = -(-m >> level)
+            if level in full or 8 * len(a) > n:
+                if level not in full:
+                    full[level] = _Blocks(pieces, level, keep=level > 1)
+                blocks = full[level]
+            else:                                   # few pairs left: only the blocks they need
+                same = a == b
+                ids = np.unique(np.concatenate([a, b, a[same] - 1, a[same] + 1]))
+                blocks = _Blocks(pieces, level, ids[(ids >= 0) & (ids < n)])
+            # A block with itself is settled by a straight window on either side; two neighbours by theirs.
+            same = a == b
+            ahead = blocks.straight(a, slack)
+            keep = np.where(same, ~(blocks.straight(a - 1, slack) | ahead),
+                            ~(((b == a + 1) & ahead) | blocks.apart(a, b, slack)))
+            a, b = _children(a[keep], b[keep], -(-m >> (level - 1)))
+        keep = (a != b) & ~pieces.apart(a, b, slack)
+        a, b = a[keep], b[keep]
+        dx, dy = mx[a] - mx[b], my[a] - my[b]
+        reach = pieces.rho[a] + pieces.rho[b] + slack
+        keep = dx * dx + dy * dy <= reach * reach
+        if keep.any():
+            yield a[keep], b[keep]
 
 
-def _disks_meet(x: np.ndarray, y: np.ndarray, rad: np.ndarray, i: np.ndarray, j: np.ndarray,
-                eps: float) -> np.ndarray:
-    """Whether the disks (x, y, rad) i and j come within ``eps`` of each other, pair by pair."""
-    dx, dy = x[i] - x[j], y[i] - y[j]
-    reach = rad[i] + rad[j] + eps
-    return dx * dx + dy * dy <= reach * reach
+class _Pieces:
+    """Per piece of a chain (`_near_pairs`): its disk, and the terms of the straight windows on demand.
+
+    The terms (`_TERMS`) are made one after another and reduced to blocks as they come (`_Blocks`), so
+    that few arrays as long as the chain are alive at once; those of a few pieces are made from their
+    neighbours' midpoints (`terms_at`).
+    """
+
+    def __init__(self, A, B, fat, nxt, first, mx, my):
+        self.m, self.first, self.mx, self.my, self.fat = len(A), first, mx, my, fat
+        self._nxt, self._end = nxt, np.flatnonzero(nxt != np.arange(1, len(A) + 1))
+        rho = B[:, 0] - A[:, 0]
+        rho *= rho
+        hy = B[:, 1] - A[:, 1]
+        hy *= hy
+        rho += hy
+        del hy
+        np.sqrt(rho, out=rho)
+        rho *= 0.5
+        rho += fat
+        self.rho = rho
+        self.terms = None                   # all pieces' terms, kept once a lower level needs them all
+
+    def _succ(self, x: np.ndarray) -> np.ndarray:
+        """``x[nxt]``, copied in one sweep but at the rings' ends."""
+        y = np.empty_like(x)
+        y[:-1] = x[1:]
+        y[self._end] = x[self._nxt[self._end]]
+        return y
+
+    def _pred(self, x: np.ndarray) -> np.ndarray:
+        """``x[prev]``, where ``nxt[prev[i]] = i``."""
+        y = np.empty_like(x)
+        y[1:] = x[:-1]
+        y[self._nxt[self._end]] = x[self._end]
+        return y
+
+    def each_term(self):
+        """Yield ``(name, array)`` for every term of every piece, one term at a time.
+
+        The terms: the direction ``psi`` of the step s_i = m_{i+1} − m_i, ``two`` = |s_i| + |s_{i+1}|,
+        ``back`` = |s_{i−1}|, ``two_rho`` = two − ρ_i, ``back_rho`` = back − ρ_i and ``span`` =
+        two − ρ_i − ρ_{i+2} (∞ with an arc between). An array is overwritten once the next is asked for.
+        """
+        mx, my, rho = self.mx, self.my, self.rho
+        sx, sy = self._ahead(mx, np.subtract), self._ahead(my, np.subtract)
+        yield "psi", np.arctan2(sy, sx)
+        sx *= sx
+        sy *= sy
+        sx += sy
+        del sy
+        step = np.sqrt(sx, out=sx)
+        two = self._ahead(step, np.add)
+        yield "two", two
+        back = self._pred(step)
+        del step, sx
+        yield "back", back
+        back -= rho
+        yield "back_rho", back
+        two -= rho
+        yield "two_rho", two
+        span = two
+        span -= self._succ(self._succ(rho))
+        span[self._succ(self.fat) > 0] = np.inf
+        yield "span", span
+
+    def _ahead(self, x: np.ndarray, op) -> np.ndarray:
+        """``op(x[nxt], x)`` in one sweep (but at the rings' ends)."""
+        y = np.empty_like(x)
+        op(x[1:], x[:-1], out=y[:-1])
+        e = self._end
+        y[e] = op(x[self._nxt[e]], x[e])
+        return y
+
+    def terms_at(self, idx: np.ndarray) -> dict:
+        """Make the terms (see `each_term`) of the pieces ``idx`` from their neighbours' midpoints."""
+        mx, my, rho = self.mx, self.my, self.rho
+        # The piece before: the previous one, or at a ring's first piece the ring's last.
+        p, j = idx - 1, self._nxt[idx]
+        start = self.first[idx] == idx
+        p[start] = self._end[np.searchsorted(self._end, idx[start])]
+        jj = self._nxt[j]
+
+        def steps(a, b):
+            sx, sy = mx[b] - mx[a], my[b] - my[a]
+            return sx, sy, np.sqrt(sx * sx + sy * sy)
+
+        sx, sy, step = steps(idx, j)
+        two = steps(j, jj)[2] + step
+        back = steps(p, idx)[2]
+        span = two - rho[idx] - rho[jj]
+        span[self.fat[j] > 0] = np.inf
+        return {"psi": np.arctan2(sy, sx), "two": two, "back": back, "back_rho": back - rho[idx],
+                "two_rho": two - rho[idx], "span": span}
+
+    def apart(self, a: np.ndarray, b: np.ndarray, slack: float) -> np.ndarray:
+        """Whether the boxes of the disks of pieces a and b are more than ``slack`` apart, pair by pair."""
+        ra, rb = self.rho[a], self.rho[b]
+        out = np.zeros(len(a), bool)
+        for c in (self.mx, self.my):
+            ca, cb = c[a], c[b]
+            out |= np.maximum(ca - ra, cb - rb) - np.minimum(ca + ra, cb + rb) > slack
+        return out
+
+
+# How `_Blocks` reduces each term of `_Pieces` over a block: to the least or the greatest.
+_TERMS = {"psi": None, "two": np.maximum, "back": np.maximum, "back_rho": np.minimum, "two_rho": np.minimum,
+          "span": np.minimum}
+
+
+class _Blocks:
+    """Blocks of 2**level consecutive pieces: all of them, or those numbered ``ids`` (sorted).
+
+    Each has the box of its pieces' disks, the range of its steps' directions, the minima and maxima of
+    the window terms (see `_near_pairs`) and the ring of its first and of its last piece. Looked up by
+    block number.
+    """
+
+    def __init__(self, pieces: _Pieces, level: int, ids: np.ndarray | None = None, keep: bool = False):
+        size, m = 1 << level, pieces.m
+        self.n, self.ids, self._straight = -(-m // size), ids, None
+        if ids is None:
+            starts = np.arange(0, m, size)
+
+            def reduce(op, x):
+                return op.reduceat(x, starts)
+
+            if pieces.terms is not None:
+                terms = pieces.terms.items()
+            elif keep:                              # a lower level will need them too
+                pieces.terms = {name: x.copy() for name, x in pieces.each_term()}
+                terms = pieces.terms.items()
+            else:
+                terms = pieces.each_term()
+            mx, my, rho = pieces.mx, pieces.my, pieces.rho
+        else:
+            # The pieces of each block (the last of a short block repeated: minima and maxima only).
+            starts = ids * size
+            at = np.minimum(starts[:, None] + np.arange(size), np.minimum(starts + size, m)[:, None] - 1)
+            shape, at = at.shape, at.ravel()
+
+            def reduce(op, x):
+                return op.reduce(x.reshape(shape), axis=1)
+
+            terms = pieces.terms_at(at).items()
+            mx, my, rho = pieces.mx[at], pieces.my[at], pieces.rho[at]
+        lo, hi = np.minimum, np.maximum
+        r = reduce(hi, rho)
+        self.x0, self.x1 = reduce(lo, mx) - r, reduce(hi, mx) + r
+        self.y0, self.y1 = reduce(lo, my) - r, reduce(hi, my) + r
+        for name, x in terms:
+            if _TERMS[name] is None:
+                self.psi0, self.psi1 = reduce(lo, x), reduce(hi, x)
+            else:
+                setattr(self, name, reduce(_TERMS[name], x))
+        self.ring0 = pieces.first[starts]
+        self.ring1 = pieces.first[np.minimum(starts + size, m) - 1]
+
+    def _at(self, k: np.ndarray) -> np.ndarray:
+        return k if self.ids is None else np.searchsorted(self.ids, k)
+
+    def straight(self, k: np.ndarray, slack: float) -> np.ndarray:
+        """Whether the window of blocks k and k + 1 is straight (see `_near_pairs`); False off the ends."""
+        if self.ids is None:
+            if self._straight is None:
+                self._straight = np.zeros(self.n + 1, bool)
+                every = np.arange(self.n - 1)
+                self._straight[:self.n - 1] = self._windows(every, every + 1, slack)
+            return self._straight[k]            # k = −1 reads the last entry: False
+        ok = (k >= 0) & (k + 1 < self.n)
+        out = np.zeros(len(k), bool)
+        if ok.any():
+            out[ok] = self._windows(self._at(k[ok]), self._at(k[ok] + 1), slack)
+        return out
+
+    def _windows(self, p: np.ndarray, q: np.ndarray, slack: float) -> np.ndarray:
+        """`straight` of the windows made of the blocks stored at p and q."""
+        # Every step's direction is within β, half the range of their angles, of the range's middle
+        # (padded beyond the rounding of the angles, so that cos β is below the cosine of the true β).
+        beta = (np.maximum(self.psi1[p], self.psi1[q]) - np.minimum(self.psi0[p], self.psi0[q])) \
+            * (0.5 * (1.0 + 1e-9)) + 1e-12
+        loss = 1.0 - np.cos(np.minimum(beta, 1.5))
+        two = np.maximum(self.two[p], self.two[q]) * loss
+        head = np.minimum(self.two_rho[p], self.two_rho[q]) - two
+        tail = np.minimum(self.back_rho[p], self.back_rho[q]) - np.maximum(self.back[p], self.back[q]) * loss
+        span = np.minimum(self.span[p], self.span[q]) - two
+        return (self.ring0[p] == self.ring1[q]) & (beta < 1.5) & (head + tail > slack) & (span > slack)
+
+    def apart(self, a: np.ndarray, b: np.ndarray, slack: float) -> np.ndarray:
+        """Whether the boxes of blocks a and b are more than ``slack`` apart, pair by pair."""
+        a, b = self._at(a), self._at(b)
+        return ((np.maximum(self.x0[a], self.x0[b]) - np.minimum(self.x1[a], self.x1[b]) > slack)
+                | (np.maximum(self.y0[a], self.y0[b]) - np.minimum(self.y1[a], self.y1[b]) > slack))
+
+
+def _top_pairs(lv: _Blocks, slack: float):
+    """Every block paired with itself and with each block whose box comes within ``slack`` of its own."""
+    n = lv.n
+    if n <= 64:                                 # few blocks: every pair of them
+        a, b = np.triu_indices(n)
+        keep = (a == b) | ~lv.apart(a, b, slack)
+        return a[keep], b[keep]
+    cx, cy = 0.5 * (lv.x0 + lv.x1), 0.5 * (lv.y0 + lv.y1)
+    ext = np.maximum(lv.x1 - lv.x0, lv.y1 - lv.y0) * 0.5 * (1.0 + 1e-12)
+    h = max(min(float(ext.max()), 2.0 * float(np.percentile(ext, 95))), slack)
+    small = np.flatnonzero(ext <= h)
+    found = [np.column_stack([np.arange(n), np.arange(n)])]
+    if len(small) > 1:
+        # Boxes of half-extent ≤ h within ``slack``: centres within 2h + slack in both coordinates, so
+        # within √2 of that (a Euclidean search is several times faster than one in the maximum norm).
+        tree = _tree(np.column_stack([cx[small], cy[small]]))
+        found.append(small[tree.query_pairs(1.5 * (2.0 * h + 2.0 * slack), output_type="ndarray")])
+    big = np.flatnonzero(ext > h)
+    if len(big):
+        # The few larger boxes against all others (the box test below settles them).
+        other = np.arange(n)
+        for chunk in np.array_split(big, max(1, len(big) * n // 4_000_000)):
+            a = np.repeat(chunk, n)
+            b = np.tile(other, len(chunk))
+            keep = a != b
+            found.append(np.column_stack([a[keep], b[keep]]))
+    a, b = np.concatenate(found).T
+    a, b = np.minimum(a, b), np.maximum(a, b)
+    keep = (a == b) | ~lv.apart(a, b, slack)
+    return a[keep], b[keep]
+
+
+def _pieces_of(a: np.ndarray, b: np.ndarray, level: int, m: int):
+    """List the pairs ``i < j`` of pieces (of m) of the pairs of blocks a ≤ b of this level."""
+    size = 1 << level
+    i = (a[:, None] * size + np.arange(size))[:, :, None]
+    j = (b[:, None] * size + np.arange(size))[:, None, :]
+    i, j = np.broadcast_arrays(i, j)
+    keep = (i < j) & (j < m)
+    return i[keep], j[keep]
+
+
+def _children(a: np.ndarray, b: np.ndarray, n: int):
+    """Pairs of blocks split into the pairs of their halves (blocks 2a, 2a + 1 of the level below, of n)."""
+    same = a == b
+    a0, b0 = 2 * a, 2 * b
+    ca = np.concatenate([a0, a0, a0 + 1, a0 + 1])
+    cb = np.concatenate([b0, b0 + 1, b0, b0 + 1])
+    # Of a block with itself: (2a, 2a), (2a, 2a+1), (2a+1, 2a+1); of two blocks all four.
+    no = np.zeros(len(a), bool)
+    keep = ~np.concatenate([no, no, same, no]) & (ca < n) & (cb < n)
+    return ca[keep], cb[keep]
 
 
 def _segment_distances(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -312,7 +312,7 @@ class Loop:
     """
 
     # A loop never changes after construction, so its exact (compensated) sums are computed once.
-    __slots__ = ("_arc", "_data", "_pieces", "_area", "_length")
+    __slots__ = ("_arc", "_data", "_pieces", "_area", "_length", "_terms")
 
     def __init__(self, pieces: Iterable[Piece], atol: float | None = None):
         pieces = tuple(pieces)
@@ -322,7 +322,7 @@ class Loop:
         data = np.array([(p.center[0], p.center[1], p.radius, p.start_angle, p.sweep) if isinstance(p, Arc)
                          else (p.start[0], p.start[1], p.end[0], p.end[1], 0.0) for p in pieces], dtype=float)
         self._arc, self._data, self._pieces = arc, data, pieces
-        self._area = self._length = None
+        self._area = self._length = self._terms = None
         self._check_closed(atol)
 
     @classmethod
@@ -334,7 +334,7 @@ class Loop:
         self = object.__new__(cls)
         self._arc = np.asarray(arc, dtype=bool)
         self._data = np.asarray(data, dtype=float)
-        self._pieces = self._area = self._length = None
+        self._pieces = self._area = self._length = self._terms = None
         self._check_closed(atol)
         return self
 
@@ -435,20 +435,42 @@ class Loop:
         return cls._from_disk_arrays(c, s, r, phi, length, sweeps)
 
     @classmethod
-    def _from_disk_arrays(cls, c, s, r, phi, length, sweeps) -> Loop:
-        """Loop from disks with their tangent directions, tangent lengths and arc sweeps (all exact)."""
+    def _from_disk_arrays(cls, c, s, r, phi, length, sweeps, affine=None) -> Loop:
+        """Loop from disks with their tangent directions, tangent lengths and arc sweeps (all exact).
+
+        With ``affine = (scale, dx, dy)`` the loop comes out under ``p -> scale·p + (dx, dy)`` at once: the
+        same numbers as ``_from_disk_arrays(c, s, r, phi, length, sweeps).affine(scale, dx, dy)``.
+        """
         n = len(c)
-        normal = np.column_stack([-np.sin(phi), np.cos(phi)])
-        P = c - (s * r)[:, None] * normal
-        Q = np.roll(c, -1, axis=0) - (np.roll(s, -1) * r)[:, None] * normal
-        start = np.roll(phi, 1) - s * (math.pi / 2)
-        arc_rows = np.column_stack([c, np.full(n, r), start, sweeps])
-        seg_rows = np.column_stack([P, Q, np.zeros(n)])
-        data = np.empty((2 * n, 5))
-        data[0::2], data[1::2] = arc_rows, seg_rows
+        nx, ny = -np.sin(phi), np.cos(phi)              # left normal of each tangent
+        sr, sr_next = s * r, np.roll(s, -1) * r
+        cx, cy = c[:, 0], c[:, 1]
+        cx_next, cy_next = np.roll(cx, -1), np.roll(cy, -1)
+        # Arc i is row 2i: (cx, cy, r, start, sweep); the tangent leaving disk i row 2i + 1: (P, Q, 0). The
+        # rows are stored a column at a time (Fortran order): every measure reads the array by columns.
+        buf = np.empty((5, n, 2))
+        arcs, segs = buf[:, :, 0], buf[:, :, 1]
+        arcs[0], arcs[1], arcs[2] = cx, cy, r
+        np.subtract(np.roll(phi, 1), s * (math.pi / 2), out=arcs[3])
+        arcs[4] = sweeps
+        for k, (x, sx) in enumerate(((cx, nx), (cy, ny), (cx_next, nx), (cy_next, ny))):
+            np.multiply(sr if k < 2 else sr_next, sx, out=segs[k])
+            np.subtract(x, segs[k], out=segs[k])
+        segs[4] = 0.0
+        if affine is not None:
+            scale, dx, dy = affine
+            for rows, cols in ((arcs, (0, 1)), (segs, (0, 1, 2, 3))):
+                for k in cols:
+                    rows[k] *= scale
+                    rows[k] += dy if k % 2 else dx
+            arcs[2] *= scale
+        data = buf.reshape(5, 2 * n).T
         arc = np.zeros(2 * n, dtype=bool)
         arc[0::2] = True
-        keep = np.where(arc, data[:, 4] != 0.0, np.repeat(length, 2) > 0)
+        keep = np.empty(2 * n, dtype=bool)
+        keep[0::2], keep[1::2] = arcs[4] != 0.0, length > 0
+        if keep.all():
+            return cls._from_arrays(arc, data)
         if not keep.any():
             keep[0] = True
         return cls._from_arrays(arc[keep], data[keep])
@@ -481,17 +503,57 @@ class Loop:
         return self._area
 
     def _signed_area(self) -> float:
+        terms = self._area_terms()
+        self._terms = None
+        return math.fsum(terms.tolist())
+
+    def _area_terms(self) -> np.ndarray:
+        """Each piece's contribution ½∮(x dy − y dx) to the area, relative to the first piece's start."""
+        if self._terms is not None:
+            return self._terms
         d = self._data
         # Origin: the first piece's start (the same arithmetic as `_ends`, on that piece alone).
         first = Loop.__new__(Loop)
         first._arc, first._data = self._arc[:1], d[:1]
         o = first._ends()[0][0]
-        x0, y0, x1, y1 = d[:, 0] - o[0], d[:, 1] - o[1], d[:, 2] - o[0], d[:, 3] - o[1]
-        seg = 0.5 * (x0 * y1 - x1 * y0)
-        r, a0, sw = d[:, 2], d[:, 3], d[:, 4]
-        a1 = a0 + sw
-        arc = 0.5 * (r * r * sw + r * x0 * (np.sin(a1) - np.sin(a0)) - r * y0 * (np.cos(a1) - np.cos(a0)))
-        return math.fsum(np.where(self._arc, arc, seg).tolist())
+        terms = np.empty(len(d))
+        arc, seg = self._rows()
+        e = d[seg]
+        if len(e):
+            x0, y0, x1, y1 = e[:, 0] - o[0], e[:, 1] - o[1], e[:, 2] - o[0], e[:, 3] - o[1]
+            terms[seg] = 0.5 * (x0 * y1 - x1 * y0)
+        e = d[arc]
+        if len(e):
+            x0, y0 = e[:, 0] - o[0], e[:, 1] - o[1]
+            r, a0, sw = e[:, 2], e[:, 3], e[:, 4]
+            a1 = a0 + sw
+            terms[arc] = 0.5 * (r * r * sw + r * x0 * (np.sin(a1) - np.sin(a0))
+                                - r * y0 * (np.cos(a1) - np.cos(a0)))
+        return terms
+
+    def _rows(self):
+        """Find the rows of the arcs and of the segments.
+
+        Slices when they alternate, arc first (as `_from_disk_arrays` makes them), else index arrays.
+        """
+        arc = self._arc
+        if len(arc) % 2 == 0 and arc[0::2].all() and not arc[1::2].any():
+            return slice(0, None, 2), slice(1, None, 2)
+        return np.flatnonzero(arc), np.flatnonzero(~arc)
+
+    def _orientation(self) -> int:
+        """Give the sign of `area` (+1, −1 or 0), exactly.
+
+        The compensated sum is left for `area` where rounding cannot change the sign of a plain one.
+        """
+        if self._area is None:
+            terms = self._terms = self._area_terms()
+            total = float(terms.sum())
+            # Any order of summation errs by less than (n − 1)·u·Σ|terms|, u = 2⁻⁵³; doubled for safety.
+            if abs(total) > 2.0 * len(terms) * 2.0 ** -53 * float(np.abs(terms).sum()):
+                return 1 if total > 0 else -1
+        area = self.area
+        return 1 if area > 0 else (-1 if area < 0 else 0)
 
     @property
     def is_ccw(self) -> bool:
@@ -588,12 +650,30 @@ class Loop:
         Every point lies on the exact curve (the chords of an arc lie on its centre's side).
         """
         d, arc = self._data, self._arc
-        r = np.where(arc, d[:, 2], 1.0)
+        ia = self._rows()[0]
+        e = d[ia]
+        r = e[:, 2]
         step = np.where(tolerance >= r, math.pi / 2, 2.0 * np.arccos(np.clip(1.0 - tolerance / r, -1.0, 1.0)))
-        count = np.where(arc, np.maximum(1, np.ceil(np.abs(d[:, 4]) / step - 1e-9)), 1).astype(np.int64)
-        owner = np.repeat(np.arange(len(d)), count)
-        first = np.repeat(np.cumsum(count) - count, count)
-        frac = (np.arange(len(owner)) - first) / count[owner]
+        count = np.maximum(1, np.ceil(np.abs(e[:, 4]) / step - 1e-9)).astype(np.int64)
+        if (count == 1).all():
+            # One point a piece, its start (arcs at the fraction 0 of their sweep).
+            out = np.empty((len(d) + 1, 2))
+            out[:-1] = d[:, :2]
+            th = e[:, 3] + e[:, 4] * 0.0
+            pts = out[:-1][ia]
+            np.multiply(r, np.cos(th), out=pts[:, 0])
+            pts[:, 0] += e[:, 0]
+            np.multiply(r, np.sin(th), out=pts[:, 1])
+            pts[:, 1] += e[:, 1]
+            out[:-1][ia] = pts
+            out[-1] = out[0]
+            return out
+        ia = np.flatnonzero(arc)
+        counts = np.ones(len(d), np.int64)
+        counts[ia] = count
+        owner = np.repeat(np.arange(len(d)), counts)
+        first = np.repeat(np.cumsum(counts) - counts, counts)
+        frac = (np.arange(len(owner)) - first) / counts[owner]
         row = d[owner]
         th = row[:, 3] + row[:, 4] * frac
         pts = np.where(arc[owner][:, None],

@@ -274,11 +274,14 @@ class _DiskLoop:
             out.append(("seg", (P[i], Q[i]), self.length[i]))
         return out
 
-    def to_loop(self) -> Loop:
+    def to_loop(self, frame: _Frame | None = None) -> Loop:
+        """Build the exact loop; with ``frame``, in world coordinates (as ``frame.loop_to_world``)."""
         if self.n == 1:
-            return Loop.circle(self.c[0], self.r, ccw=self.sweep[0] > 0)
+            loop = Loop.circle(self.c[0], self.r, ccw=self.sweep[0] > 0)
+            return loop if frame is None else frame.loop_to_world(loop)
+        affine = None if frame is None else (frame.scale, frame.ox, frame.oy)
         return Loop._from_disk_arrays(self.c, self.side.astype(float), self.r, self.phi, self.length,
-                                      self.sweep)
+                                      self.sweep, affine)
 
     @property
     def perimeter(self) -> float:
@@ -1024,27 +1027,43 @@ def _rebind(ctx: _Context, L: _DiskLoop) -> _DiskLoop:
 
 def _assemble(loops: list[Loop], tol: float):
     """Shapely geometry from oriented loops: counter-clockwise outer boundaries, clockwise holes."""
-    outers = [(lp, Polygon(lp.sample(tol))) for lp in loops if lp.area > 0]
-    holes = [Polygon(lp.sample(tol)) for lp in loops if lp.area < 0]
+    return _assemble_valid(loops, tol)[0]
+
+
+def _assemble_valid(loops: list[Loop], tol: float):
+    """Make `_assemble`'s geometry, and tell whether it is known to be valid.
+
+    True if it was found valid before its rings were oriented (which validity does not depend on), None
+    if that is not known.
+    """
+    sign = [lp._orientation() for lp in loops]
+    ring = [lp.sample(tol) if s else None for lp, s in zip(loops, sign, strict=True)]
+    outers = [(k, Polygon(ring[k])) for k in range(len(loops)) if sign[k] > 0]
+    holes = [(k, Polygon(ring[k])) for k in range(len(loops)) if sign[k] < 0]
     if not outers:
-        return Polygon()
+        return Polygon(), None
     shells = [[p, []] for _, p in outers]
-    for h in holes:
-        pt = h.exterior.coords[0]
-        best, best_area = None, math.inf
-        for k, (_, p) in enumerate(outers):
-            if p.area < best_area and p.contains(shapely.Point(pt)) or (p.area < best_area and p.covers(h)):
-                best, best_area = k, p.area
-        if best is not None:
-            shells[best][1].append(h)
+    if holes:
+        areas = [p.area for _, p in outers]
+        # Whether each outer boundary contains each hole's first point (read in the order needed below).
+        x, y = np.array([ring[k][0] for k, _ in holes]).T
+        inside = [shapely.contains_xy(p, x, y) for _, p in outers]
+        for n, (_, h) in enumerate(holes):
+            best, best_area = None, math.inf
+            for k, (_, p) in enumerate(outers):
+                if areas[k] < best_area and inside[k][n] or (areas[k] < best_area and p.covers(h)):
+                    best, best_area = k, areas[k]
+            if best is not None:
+                shells[best][1].append(n)
     polys = []
-    for shell, hs in shells:
-        P = Polygon(shell.exterior.coords, [h.exterior.coords for h in hs])
-        polys.append(P)
+    for (k, shell), (_, hs) in zip(outers, shells, strict=True):
+        # The same coordinates as the loops' samples: a shell without holes is used as it is.
+        polys.append(Polygon(ring[k], [ring[holes[n][0]] for n in hs]) if hs else shell)
     geom = polys[0] if len(polys) == 1 else MultiPolygon(polys)
-    if not geom.is_valid:
+    valid = geom.is_valid or None
+    if not valid:
         geom = _m._polygonal(shapely.make_valid(geom))
-    return shapely.orient_polygons(geom, exterior_cw=False)
+    return shapely.orient_polygons(geom, exterior_cw=False), valid
 
 
 def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None = None) -> Tightening:
@@ -1119,9 +1138,9 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
     if fast is not None:
         disk_loops = [_DiskLoop(np.full(len(c), -1), s.astype(np.int64), c, phi, ln, sw, r_l)
                       for c, s, phi, ln, sw in fast]
-        loops = [frame.loop_to_world(L.to_loop()) for L in disk_loops]
-        geometry = _assemble(loops, tol)
-        if not geometry.is_valid or geometry.is_empty:
+        loops = [L.to_loop(frame) for L in disk_loops]
+        geometry, valid = _assemble_valid(loops, tol)
+        if not (valid or geometry.is_valid) or geometry.is_empty:
             fast = None
     if fast is None:
         ctx = _Context(S_local, r_l, tol_l)
