@@ -14,6 +14,10 @@ and reports the medians and their ratio. Shapes:
   the mortar and the general engine (triangulated mortar, funnel, surgery) does the work;
 * ``traced contour``: the pixel-staircase outline of a noisy blob, like a segmentation mask's traced
   boundary (many tiny corners, every one in the mortar).
+* ``coastline``: a real one, traced: the land of matplotlib's sample elevation grid ``topobathy.npz``
+  (the coast of Vancouver Island and the Puget Sound, 120 × 91 cells), interpolated (cubic) to the
+  resolution that gives about n vertices, thresholded at sea level and outlined pixel by pixel: some
+  200 islands, fjords and channels; r = 1.5 cells of the original grid.
 
 Run:  python benchmarks/bench_tighten.py [--sizes 1000 10000 100000 1000000] [--repeats 3]
 It prints a markdown table and writes it to benchmarks/results/tighten.md.
@@ -31,7 +35,8 @@ from pathlib import Path
 
 import numpy as np
 import shapely
-from shapely.geometry import Polygon
+import shapely.affinity
+from shapely.geometry import MultiPolygon, Polygon
 
 import vectortighten as vt
 from vectortighten._validation import quad_segs_for
@@ -50,6 +55,24 @@ def wavy_star(n: int, waves: int = 12, amp: float = 0.04) -> Polygon:
 def traced_contour(n: int, seed: int = 7) -> Polygon:
     """The pixel-staircase outline of a noisy blob with about n vertices (see `tests.strategies`)."""
     return pixel_outline(n, seed)
+
+
+def coastline(n: int) -> MultiPolygon:
+    """The traced land of matplotlib's ``topobathy.npz`` (coordinates in cells of its grid), ~n vertices."""
+    import matplotlib
+    from scipy import ndimage
+
+    topo = np.load(Path(matplotlib.get_data_path()) / "sample_data" / "topobathy.npz")["topo"]
+    f = max(1.0, n / 1350.0)
+    land = ndimage.zoom(topo.astype(float), f, order=3) > 0 if f > 1 else topo > 0
+    boxes = []
+    for i, row in enumerate(land):                  # one box per run of land pixels in a row
+        d = np.diff(np.r_[0, row.astype(np.int8), 0])
+        start, stop = np.flatnonzero(d == 1), np.flatnonzero(d == -1)
+        boxes.append(shapely.box(start, -i - 1, stop, -i))
+    P = shapely.simplify(shapely.union_all(np.concatenate(boxes)), 0.0)   # drop collinear vertices exactly
+    k = land.shape[0] / topo.shape[0]
+    return shapely.affinity.scale(P, 1 / k, 1 / k, origin=(0, 0))
 
 
 def _median_time(fn, repeats: int) -> float:
@@ -93,13 +116,14 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 10_000, 100_000, 1_000_000])
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--shapes", nargs="+", default=["wavy star", "rough star", "traced contour"])
+    parser.add_argument("--shapes", nargs="+", default=["wavy star", "rough star", "traced contour", "coastline"])
     parser.add_argument("--out", type=Path, default=HERE / "results" / "tighten.md")
     args = parser.parse_args(argv)
     makers = {
         "wavy star": (lambda n: wavy_star(n), 0.5),
         "rough star": (lambda n: wavy_star(n, waves=60, amp=0.02), 1.0),
         "traced contour": (traced_contour, 0.6),
+        "coastline": (coastline, 1.5),
     }
     rows = []
     for name in args.shapes:

@@ -50,9 +50,11 @@ def segment_segment_distance(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.
 
 
 def _beyond_line(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray, dist: float) -> np.ndarray:
-    """Rows where the segment ``p[i]q[i]`` lies wholly on one side of the line through ``a[i]b[i]``,
-    farther than ``dist`` from it, and so farther than ``dist`` from that edge too (a cheap first test:
-    in a grazing query most edges face the query from about r away)."""
+    """Rows where the segment ``p[i]q[i]`` lies beyond ``dist`` on one side of the line ``a[i]b[i]``.
+
+    Such a segment is farther than ``dist`` from that edge too: a cheap first test, since in a grazing
+    query most edges face the query from about r away.
+    """
     d = b - a
     L = np.hypot(d[:, 0], d[:, 1])
     sp = d[:, 0] * (p[:, 1] - a[:, 1]) - d[:, 1] * (p[:, 0] - a[:, 0])
@@ -94,8 +96,10 @@ class EdgeIndex:
         return len(self.a)
 
     def near_points(self, x: np.ndarray, dist: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Pairs ``(point, edge, distance)`` with the edge within ``dist`` of the point, sorted by point
-        and then by distance."""
+        """Pairs ``(point, edge, distance)`` with the edge within ``dist`` of the point.
+
+        Sorted by point, then by distance.
+        """
         P, E = [], []
         if len(x) and self.classes:
             tree = _tree(x)
@@ -118,17 +122,19 @@ class EdgeIndex:
         order = np.lexsort((d, pi))
         return pi[order], ei[order], d[order]
 
-    def nearest(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The nearest edge to each point and its distance, exactly: ``(edge, distance)``.
+    def nearest(self, x: np.ndarray, exact: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """The nearest edge to each point and its distance: ``(edge, distance)``.
 
-        Each length class offers the edges of its eight nearest midpoints; a point for which some class
-        could still hide a nearer edge (its eighth midpoint is not far enough) is settled by a ball search.
+        Each length class offers the edges of its eight nearest midpoints; with ``exact``, a point for
+        which some class could still hide a nearer edge (its eighth midpoint is not far enough) is
+        settled by a ball search. Without, each class offers two, and the answer is the nearest of those
+        (on a boundary that grazes the point, one of the edges at about the nearest distance).
         """
         best = np.full(len(x), np.inf)
         edge = np.full(len(x), -1, dtype=np.int64)
         doubt = np.zeros(len(x), dtype=bool)
         for ids, half, kd in self.classes:
-            k = min(8, len(ids))
+            k = min(8 if exact else 2, len(ids))
             dm, j = kd.query(x, k=k)
             dm, j = dm.reshape(len(x), k), j.reshape(len(x), k)
             e = ids[j]
@@ -148,7 +154,7 @@ class EdgeIndex:
             better = d < best[pi]
             best[pi[better]] = d[better]
             edge[pi[better]] = e[better]
-        doubt = np.flatnonzero(doubt)
+        doubt = np.flatnonzero(doubt) if exact else np.zeros(0, dtype=np.int64)
         if len(doubt):
             pi, ei, d = self.near_points(x[doubt], float(best[doubt].max()))
             first = np.r_[True, pi[1:] != pi[:-1]] if len(pi) else np.zeros(0, bool)
@@ -159,9 +165,11 @@ class EdgeIndex:
         return edge, best
 
     def nearby_distance(self, x: np.ndarray) -> np.ndarray:
-        """For each point, the distance to some edge near it, at most ``2·half`` more than the distance to
-        the nearest edge (the edge of the nearest midpoint of each length class): an upper bound that
-        is cheap to get, for sizing a search."""
+        """For each point, the distance to some edge near it: a cheap upper bound on the nearest.
+
+        It is the distance to the edge of the nearest midpoint of each length class, at most twice the
+        class's half-length more than the distance to the nearest edge; for sizing a search.
+        """
         out = np.full(len(x), np.inf)
         for ids, _, kd in self.classes:
             _, j = kd.query(x, k=1)

@@ -148,8 +148,11 @@ _COMBOS = {m: np.array(list(itertools.combinations(range(m), 2)), dtype=np.int64
 
 
 def _hypot_rows(v: np.ndarray) -> np.ndarray:
-    """``math.hypot`` of each row (correctly rounded, unlike ``np.hypot`` on some platforms: centres, and
-    the snapped buffers built on them, do not change with the numpy build)."""
+    """``math.hypot`` of each row.
+
+    Correctly rounded, unlike ``np.hypot`` on some platforms: the centres, and the snapped buffers built
+    on them, do not change with the numpy build.
+    """
     if len(v) == 0:
         return np.zeros(0)
     return _HYPOT(v[:, 0], v[:, 1]).astype(float)
@@ -268,6 +271,8 @@ def _clear_of_listed(xy, owner, dev, chk_start, chk_dist, chk_edge, a, b, limit,
     return low >= limit
 
 
+_MISSED_STEP_R = 5e-4                 # finest sampling (× r) along a buffer edge that lost centres
+_MISSED_SAMPLES = 50_000             # most sample points along such edges in all
 _LONE_R = 0.1                         # a recovered centre this near (× r) to a found one is left out
 _PAIR_FEATURES = 6                    # the features nearest to a point among which pairs are solved
 
@@ -311,8 +316,8 @@ def _refine(points, side, a, b, nxt, index: EdgeIndex, r, window, scale, reach=N
     its features and no nearer than r to any edge of S; the one nearest to the point is kept, provided it
     is within ``reach`` of it (default ``300·window``: GEOS's buffers may misplace a vertex by up to a
     hundredth of r where they simplify their input, and where two offset arcs cross at a shallow angle a
-    chord moves the crossing far along them). The band widens (×10, ×100, ×300) for points still unmatched: an edge's
-    line is offered only where the point's foot falls within ``w`` of the edge.
+    chord moves the crossing far along them). The band widens (×10, ×100, ×300) for points still
+    unmatched: an edge's line is offered only where the point's foot falls within ``w`` of the edge.
     """
     n = len(points)
     xy = points.copy()
@@ -518,17 +523,21 @@ def _inside(S, xy: np.ndarray) -> np.ndarray:
 
 
 def _nearest_keys(x, a, b, nxt, index: EdgeIndex) -> np.ndarray:
-    """The feature of S nearest to each point, as a key: an edge's line where the point's foot falls
-    inside the edge, else the vertex at the end it falls beyond."""
-    e, _ = index.nearest(x)
+    """The feature of S nearest to each point, as a key.
+
+    An edge's line where the point's foot falls inside the edge, else the vertex at the end it falls
+    beyond.
+    """
+    e, _ = index.nearest(x, exact=False)
     d = b[e] - a[e]
     t = np.einsum("ij,ij->i", x - a[e], d) / np.einsum("ij,ij->i", d, d)
     return np.where(t <= 0.0, 2 * e + 1, np.where(t >= 1.0, 2 * nxt[e] + 1, 2 * e))
 
 
-def _missed_centres(P, S_rings, side, a, b, nxt, index: EdgeIndex, r, window, scale, excess_min):
-    """Exact centres that the buffer ``P`` (the shrink for side +1, the grow for −1) lost: ``(xy, features,
-    source)``.
+def _missed_centres(P, S_rings, side, a, b, nxt, index: EdgeIndex, r, window, scale, excess_min, known):
+    """Exact centres that the buffer ``P`` lost: ``(xy, features, source)``.
+
+    ``P`` is the shrink for side +1, the grow for −1.
 
     GEOS simplifies a buffer's input (by up to r/100, and differently for the two ring orientations):
     a ledge or notch narrower than that, a stretch of pixel staircase, is smoothed over, and the vertices
@@ -538,10 +547,16 @@ def _missed_centres(P, S_rings, side, a, b, nxt, index: EdgeIndex, r, window, sc
     a smoothed stretch (a lost centre less deep than that is within the engine's penetration allowance).
 
     Along such an edge the exact boundary runs within the edge's excess, and its vertices are where the
-    feature of S nearest to it changes. So the edge is sampled finely (a quarter of S's typical edge, at
-    most r/20 apart), the nearest feature of every sample is found, and each pair of different features
-    at consecutive samples is solved exactly; the solutions clear of every feature of S by r are
-    returned. Their ``source`` is NaN (no vertex of ``P`` stands for them).
+    feature of S nearest to it changes. So the edge is sampled finely (a quarter of S's typical edge, but
+    no closer than r/2000 nor farther than r/20, and at most `_MISSED_SAMPLES` points in all), the nearest
+    feature of every sample is found, and each pair of different features at consecutive samples is
+    solved exactly; the solutions clear of every feature of S by r are returned.
+
+    Only lone lost centres are looked for: none within ``_LONE_R·r`` of a centre found already (``known``,
+    a k-d tree of them, or None), and no samples within half that of one. The exact finish inserts disks
+    one at a time and does not settle among disks that close (it wound a loop round one of them on a
+    30k-vertex pixel staircase), so where S has many features close together (such a staircase at r of a
+    thousand pixels) its lost centres stay lost. See the README's limitations. Their ``source`` is NaN (no vertex of ``P`` stands for them).
     """
     empty = np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64), np.zeros((0, 2))
     if P.is_empty or len(a) == 0:
@@ -558,11 +573,16 @@ def _missed_centres(P, S_rings, side, a, b, nxt, index: EdgeIndex, r, window, sc
         return empty
     p0, p1 = p0[far], p1[far]
     length = np.hypot(*(p1 - p0).T)
-    step = min(0.05 * r, 0.25 * float(np.median(np.hypot(*(b - a).T))))
+    step = min(0.05 * r, max(0.25 * float(np.median(np.hypot(*(b - a).T))), _MISSED_STEP_R * r))
+    step = max(step, float(length.sum()) / _MISSED_SAMPLES)
     k = np.maximum(1, np.ceil(length / step).astype(np.int64))
     owner = np.repeat(np.arange(len(p0)), k + 1)
     frac = (np.arange(len(owner)) - np.repeat(np.cumsum(k + 1) - (k + 1), k + 1)) / np.repeat(k, k + 1)
     pts = p0[owner] + frac[:, None] * (p1 - p0)[owner]
+    if known is not None:
+        d, _ = known.query(pts, distance_upper_bound=0.5 * _LONE_R * r)
+        lone = np.isinf(d)
+        pts, owner = pts[lone], owner[lone]
     key = _nearest_keys(pts, a, b, nxt, index)
     change = np.flatnonzero((owner[1:] == owner[:-1]) & (key[1:] != key[:-1]))
     fa, fb = key[change], key[change + 1]
@@ -582,6 +602,9 @@ def _missed_centres(P, S_rings, side, a, b, nxt, index: EdgeIndex, r, window, sc
     # anticore): keep those on this side.
     keep = index.clear_of(sol, r * (1 - 1e-9) - tiny)
     keep[keep] = _inside(S_rings, sol[keep]) == (side > 0)
+    if known is not None and keep.any():
+        d, _ = known.query(sol[keep], distance_upper_bound=_LONE_R * r)
+        keep[keep] = np.isinf(d)
     sol, feats = sol[keep], np.column_stack([fa, fb])[keep]
     return sol, feats, np.full((len(sol), 2), np.nan)
 
@@ -595,14 +618,8 @@ def _arc_centers(S, r, E, G, q) -> ArcCenters:
     for side, P, convex in ((1, E, True), (-1, G, False)):
         pts = _corner_vertices(P, convex) if not P.is_empty else np.zeros((0, 2))
         xy, feats, exact = _refine(pts, side, a, b, nxt, index, r, window, scale)
-        mxy, mfeats, msrc = _missed_centres(P, S, side, a, b, nxt, index, r, window, scale, excess_min)
-        if len(mxy) and exact.any():
-            # A lost centre within r/10 of one found already is left out: the exact finish inserts disks
-            # one at a time and does not settle among disks that close (a loop wound round one of them
-            # on a 30k-vertex pixel staircase). See the README's limitations.
-            d, _ = cKDTree(xy[exact]).query(mxy)
-            lone = d > _LONE_R * r
-            mxy, mfeats, msrc = mxy[lone], mfeats[lone], msrc[lone]
+        known = cKDTree(xy[exact]) if exact.any() else None
+        mxy, mfeats, msrc = _missed_centres(P, S, side, a, b, nxt, index, r, window, scale, excess_min, known)
         out_src += [pts, msrc]
         out_xy += [xy, mxy]
         out_side += [np.full(len(xy), side, dtype=np.int8), np.full(len(mxy), side, dtype=np.int8)]
