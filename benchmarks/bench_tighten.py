@@ -75,16 +75,16 @@ def coastline(n: int) -> MultiPolygon:
     return shapely.affinity.scale(P, 1 / k, 1 / k, origin=(0, 0))
 
 
-def _median_time(fn, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
+_CLOCKS = {"cpu": time.process_time, "wall": time.perf_counter}
 
 
-def measure(S: Polygon, r: float, repeats: int) -> dict:
+def _time(fn, clock) -> float:
+    t0 = clock()
+    fn()
+    return clock() - t0
+
+
+def measure(S: Polygon, r: float, repeats: int, clock=time.process_time) -> dict:
     tol = 1e-5 * r
     q = quad_segs_for(r, tol)
 
@@ -98,17 +98,24 @@ def measure(S: Polygon, r: float, repeats: int) -> dict:
         result["T"] = vt.tighten(S, r, tolerance=tol)
 
     base, mine = [], []
+    error = None
     for _ in range(repeats):           # alternate, so that both see the same machine load
-        base.append(_median_time(baseline, 1))
-        mine.append(_median_time(ours, 1))
-    T = result["T"]
+        base.append(_time(baseline, clock))
+        try:
+            mine.append(_time(ours, clock))
+        except Exception as exc:       # an engine failure is a result too: report it, do not hide the row
+            error = f"{type(exc).__name__}: {exc}"
+            break
+    T = result.get("T")
+    ok = "error" if error else ("yes" if T.verify() == [] else "no")
     return {
-        "vertices": len(shapely.get_coordinates(S)) - 1,
+        "vertices": len(shapely.get_coordinates(S)) - shapely.get_num_geometries(S),
         "baseline": statistics.median(base),
-        "tighten": statistics.median(mine),
-        "path": T._cache.get("_path", "?"),
-        "loops": len(T.loops),
-        "pieces": sum(len(loop) for loop in T.loops),
+        "tighten": statistics.median(mine) if mine and not error else math.nan,
+        "path": T._cache.get("_path", "?") if T is not None else "?",
+        "pieces": sum(len(loop) for loop in T.loops) if T is not None and not error else 0,
+        "verified": ok,
+        "error": error,
     }
 
 
@@ -118,6 +125,8 @@ def main(argv=None) -> int:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--shapes", nargs="+", default=["wavy star", "rough star", "traced contour", "coastline"])
     parser.add_argument("--out", type=Path, default=HERE / "results" / "tighten.md")
+    parser.add_argument("--clock", choices=sorted(_CLOCKS), default="cpu",
+                        help="process CPU time (default: other work on the machine barely moves it) or wall time")
     args = parser.parse_args(argv)
     makers = {
         "wavy star": (lambda n: wavy_star(n), 0.5),
@@ -131,29 +140,35 @@ def main(argv=None) -> int:
         for n in args.sizes:
             S = make(n)
             repeats = args.repeats if n <= 100_000 else 1
-            m = measure(S, r, repeats)
+            m = measure(S, r, repeats, _CLOCKS[args.clock])
             m.update(shape=name, r=r, ratio=m["tighten"] / m["baseline"])
             rows.append(m)
             print(f"{name:15s} n={m['vertices']:>8d} r={r:<4g} baseline {m['baseline']:.3f}s  "
-                  f"tighten {m['tighten']:.3f}s  ratio {m['ratio']:.1f}  ({m['path']} path)", flush=True)
+                  f"tighten {m['tighten']:.3f}s  ratio {m['ratio']:.1f}  ({m['path']} path, verified "
+                  f"{m['verified']}){'  ' + m['error'] if m['error'] else ''}", flush=True)
     lines = [
         "# Tightening speed vs. shapely opening + closing",
         "",
         f"Machine: {platform.machine()}, Python {platform.python_version()}, shapely {shapely.__version__} "
-        f"(GEOS {'.'.join(map(str, shapely.geos_version))}). Tolerance 1e-5·r for both; medians of "
-        f"{args.repeats} alternating runs (1 for a million vertices). Command: "
-        f"`python benchmarks/bench_tighten.py --sizes {' '.join(map(str, args.sizes))}`.",
+        f"(GEOS {'.'.join(map(str, shapely.geos_version))}). Tolerance 1e-5·r for both; {args.clock} time, "
+        f"medians of {args.repeats} alternating runs (1 for a million vertices). Command: "
+        f"`python benchmarks/bench_tighten.py --shapes {' '.join(repr(x) for x in args.shapes)} "
+        f"--sizes {' '.join(map(str, args.sizes))} --repeats {args.repeats}`. *verified*: `T.verify()` "
+        "found nothing.",
         "",
-        "| shape | vertices | r | opening + closing (s) | tighten (s) | ratio | engine path | output pieces |",
-        "|---|---:|---:|---:|---:|---:|---|---:|",
+        "| shape | vertices | r | opening + closing (s) | tighten (s) | ratio | engine path | output pieces | verified |",
+        "|---|---:|---:|---:|---:|---:|---|---:|---|",
     ]
     for m in rows:
         lines.append(f"| {m['shape']} | {m['vertices']} | {m['r']:g} | {m['baseline']:.3f} | {m['tighten']:.3f} "
-                     f"| {m['ratio']:.1f} | {m['path']} | {m['pieces']} |")
+                     f"| {m['ratio']:.1f} | {m['path']} | {m['pieces']} | {m['verified']} |")
+    for m in rows:
+        if m["error"]:
+            lines.append(f"\n{m['shape']}, {m['vertices']} vertices: {m['error']}")
     # Growth: time per vertex from the smallest to the largest size of each shape.
     lines += ["", "Growth of the tightening's time (exponent of n between consecutive sizes):", ""]
     for name in args.shapes:
-        sub = [m for m in rows if m["shape"] == name]
+        sub = [m for m in rows if m["shape"] == name and not m["error"]]
         exps = [math.log(b["tighten"] / a["tighten"]) / math.log(b["vertices"] / a["vertices"])
                 for a, b in zip(sub, sub[1:])]
         lines.append(f"- {name}: " + ", ".join(f"{e:.2f}" for e in exps))

@@ -105,8 +105,7 @@ class _Context:
         # shrink or grow by their own inaccuracy (chords, and GEOS's placement of offset vertices).
         self.pen_center = 1e-9 * r
         self.pen = 2.0 * self.sag + PENETRATION_R * r
-        E = _m._orient(_m._shrink_raw(S, r, self.q_exact))
-        G = _m._orient(_m._grow_raw(S, r, self.q_exact))
+        E, G = (_m._orient(P) for P in _m._offsets(S, r, self.q_exact))
         self.centers: ArcCenters = _arc_centers(S, r, E, G, self.q_exact)
         self.E = _snap_vertices(E, self.centers, 1)
         self.G = _snap_vertices(G, self.centers, -1)
@@ -140,20 +139,21 @@ class _Context:
 
     # -- morphology, lazily ------------------------------------------------------------------------------
     # The core and fillet here only guide the search for each loop's homotopy class: the free space is
-    # the mortar thickened by δ, far more than their chord error, and every contact of a finished loop is
-    # decided by the exact centres. So they are the plain buffers, not clipped to S and nudged to make
-    # ``R ⊆ S ⊆ F`` exact as the public `core` and `fillet` are (two overlays with S, which cost more
-    # than the rest of the morphology on a dense outline).
+    # the mortar thickened by δ, and every contact of a finished loop is decided by the exact centres. So
+    # they need not contain or be contained in S to the last ulp, as the public `core` and `fillet` are
+    # nudged to be; but they must to within δ, and GEOS's buffers simplify their input by up to r/100
+    # (the shrink of the grow drops bumps of it, and then misses S by that much): the overlays with S stay.
     @property
     def R(self):
         if self._R is None:
-            self._R = _m._orient(_m._grow_raw(self.E, self.r, self.q)) if not self.E.is_empty else Polygon()
+            grown = _m._grow_raw(self.E, self.r, self.q) if not self.E.is_empty else Polygon()
+            self._R = _m._orient(_m._polygonal(shapely.intersection(grown, self.S)))
         return self._R
 
     @property
     def F(self):
         if self._F is None:
-            self._F = _m._orient(_m._shrink_raw(self.G, self.r, self.q))
+            self._F = _m._orient(_m._polygonal(shapely.union(_m._shrink_raw(self.G, self.r, self.q), self.S)))
         return self._F
 
     # -- free space ----------------------------------------------------------------------------------------
