@@ -338,6 +338,17 @@ def test_dense_pixel_staircase_settles():
     assert T.converged and T.verify() == []
 
 
+def test_an_unsettled_finish_warns_and_is_reported(monkeypatch):
+    # One round of the exact finish is not enough for a traced outline: the result says so three ways.
+    from vectortighten import engine
+
+    monkeypatch.setattr(engine, "_MAX_FINISH_STEPS", 1)
+    with pytest.warns(vt.ConvergenceWarning, match="did not settle"):
+        T = vt.tighten(pixel_outline(1000, seed=3), 1.0)
+    assert not T.converged
+    assert "the exact finish did not converge everywhere" in T.verify()
+
+
 def test_snapped_vertices_leave_no_spike():
     # Two vertices of a ring that refine to one centre leave the vertex between them as a spike.
     P = Polygon([(0, 0), (4, 0), (4, 1), (2.0, 1.0), (2.05, 1.2), (2.1, 1.0), (0, 1)])

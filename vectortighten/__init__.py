@@ -26,6 +26,7 @@ from .morphology import (
 )
 from .engine import Init, Tightening, tighten
 from .errors import (
+    ConvergenceWarning,
     GeometryTypeError,
     InvalidGeometryError,
     InvalidRadiusError,
@@ -62,6 +63,7 @@ __all__ = [
     "shrink",
     "tighten",
     "tolerance_zone",
+    "ConvergenceWarning",
     "GeometryTypeError",
     "InvalidGeometryError",
     "InvalidRadiusError",

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import enum
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -40,6 +41,7 @@ from ._proximity import EdgeIndex, PointIndex
 from ._validation import check_radius, check_shape, check_tolerance, quad_segs_for
 from .centers import ArcCenters, _arc_centers, _snap_vertices
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
+from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
 from .tolerances import EXACT_CHORD_R, PENETRATION_R, THICKEN_R, TOUCH_SCALE, ZERO_SCALE
 
@@ -766,20 +768,32 @@ def _reconnect(ctx: _Context, loops: list[_DiskLoop], contact) -> list[np.ndarra
 
 
 def _tighten_all(ctx: _Context, rings: list[np.ndarray]) -> list[_DiskLoop]:
+    """Tighten every ring, then operate where loops touch until none do.
+
+    A loop whose exact finish did not settle is left as it is (marked ``converged = False``) rather than
+    operated on: its pieces are not where the tight loop's are, and a contact of it may be none. Where the
+    new rings of a surgery cannot be tightened, the loops it joined or split are kept instead, marked.
+    """
     loops = [L for L in (_tighten_ring(ctx, ring) for ring in rings) if L is not None]
     for _ in range(_MAX_SURGERY_ROUNDS):
-        contacts = _contacts(ctx, loops)
+        contacts = [c for c in _contacts(ctx, loops) if loops[c[0]].converged and loops[c[3]].converged]
         if not contacts:
             return loops
         involved = set()
-        new_rings = []
+        operated: list[_DiskLoop] = []
         for contact in contacts:
             if contact[0] in involved or contact[3] in involved:
                 continue
             involved.update((contact[0], contact[3]))
-            new_rings.extend(_reconnect(ctx, loops, contact))
-        loops = [L for i, L in enumerate(loops) if i not in involved]
-        loops += [L for L in (_tighten_ring(ctx, ring) for ring in new_rings) if L is not None]
+            try:
+                new = [_tighten_ring(ctx, ring) for ring in _reconnect(ctx, loops, contact)]
+            except _EngineError:
+                for li in {contact[0], contact[3]}:
+                    loops[li].converged = False
+                    operated.append(loops[li])
+                continue
+            operated += [L for L in new if L is not None]
+        loops = [L for i, L in enumerate(loops) if i not in involved] + operated
     raise _EngineError("surgery did not settle")
 
 
@@ -1150,6 +1164,9 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
         geometry = _assemble(loops, tol)
     result = Tightening(loops=loops, geometry=geometry, r=r, init=init.value, tolerance=tol, shape=S,
                         converged=all(L.converged for L in disk_loops))
+    if not result.converged:
+        warnings.warn("the exact finish did not settle on every loop: the result may enter the core or the "
+                      "anticore (Tightening.verify() lists where)", ConvergenceWarning, stacklevel=3)
     result._cache["_exact"] = (ctx, disk_loops, (S_local, r_l, tol_l))
     result._cache["_frame"] = frame
     result._cache["_path"] = "fast" if fast is not None else "general"

@@ -5,6 +5,7 @@ not know this package.
 """
 
 __all__ = [
+    "ConvergenceWarning",
     "GeometryTypeError",
     "InvalidGeometryError",
     "InvalidRadiusError",
@@ -31,3 +32,10 @@ class InvalidRadiusError(TighteningError, ValueError):
 
 class RepairWarning(UserWarning):
     """An invalid polygon (self-intersection, bow-tie) was repaired with ``shapely.make_valid``."""
+
+
+class ConvergenceWarning(UserWarning):
+    """The exact finish did not settle on every loop.
+
+    ``Tightening.converged`` is then False, and ``Tightening.verify()`` says where the result falls short.
+    """
