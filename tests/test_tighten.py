@@ -338,6 +338,25 @@ def test_dense_pixel_staircase_settles():
     assert T.converged and T.verify() == []
 
 
+def test_staircase_edges_nearer_than_centres_add_no_disk():
+    """A 10k-vertex traced outline at r = 300 pixel sides. Regression: tangents and arcs came within r of
+    edges of the grow (GEOS's, inexact by up to r/100) but of no exact centre, and the finish added the
+    nearest centre anyway; each was dropped again as a wrong turn, the loop kept growing elsewhere, and
+    the finish doubled it every round (a million disks, never returning). Now a tangent enters nothing
+    there, and an arc only the exact straight part between its centre and the next corner."""
+    S = pixel_outline(10_000)
+    r = 0.6
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", vt.ConvergenceWarning)
+        T = vt.tighten(S, r)
+    assert T.converged and (T.n_components, T.n_holes) == (1, 0)
+    assert not any(p.startswith(("(b)", "(c)", "(d)")) for p in T.verify())
+    # R ⊆ T ⊆ F to within what GEOS's buffers of a staircase are good for (README, limitations).
+    slack = 0.01 * r
+    assert T.geometry.buffer(slack).covers(T.core)
+    assert T.fillet.buffer(slack).covers(T.geometry)
+
+
 def test_an_unsettled_finish_warns_and_is_reported(monkeypatch):
     # One round of the exact finish is not enough for a traced outline: the result says so three ways.
     from vectortighten import engine

@@ -39,7 +39,7 @@ from . import morphology as _m
 from ._pieces import piece_distance
 from ._proximity import EdgeIndex, PointIndex
 from ._validation import check_radius, check_shape, check_tolerance, quad_segs_for
-from .centers import ArcCenters, _arc_centers, _snap_vertices
+from .centers import ArcCenters, _arc_centers, _snap_vertices, boundary_edges
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
@@ -117,6 +117,7 @@ class _Context:
         self.ctree = shapely.STRtree(shapely.points(self.cxy)) if len(self.cxy) else None
         self._kd = {s: (cKDTree(self.cxy[self.cside == s]) if (self.cside == s).any() else None,
                         np.flatnonzero(self.cside == s)) for s in (1, -1)}
+        self._s_edges = None
         edges, kinds = [], []
         for kind, P in ((1, self.E), (-1, self.G)):
             if P.is_empty:
@@ -205,6 +206,25 @@ class _Context:
         return out
 
     # -- obstacles -----------------------------------------------------------------------------------------
+    def joined(self, c1: int, c2: int, point) -> bool:
+        """Whether the segment between centres ``c1`` and ``c2`` lies in the shrink (or grow) — it clears
+        S's boundary by r — and ``point`` comes nearer than r to it."""
+        seg = shapely.linestrings(self.cxy[[c1, c2]])
+        if shapely.distance(seg, point) >= self.r - self.pen_center:
+            return False
+        a, b, nxt, index = self._s_index()
+        x0, y0, x1, y1 = self.S.bounds
+        tiny = ZERO_SCALE * max(x1 - x0, y1 - y0, self.r)
+        si, _ = index.near_segments(self.cxy[[c1]], self.cxy[[c2]], self.r * (1 - 1e-9) - tiny)
+        return len(si) == 0
+
+    def _s_index(self):
+        """S's edges (start, end, successor) and their proximity index, built on first use."""
+        if self._s_edges is None:
+            a, b, nxt = boundary_edges(self.S)
+            self._s_edges = (a, b, nxt, EdgeIndex(a, b, self.r))
+        return self._s_edges
+
     def nearest_centers(self, xy: np.ndarray, radius: float):
         """Pairs (point index, centre index) with the centre within ``radius`` of the point."""
         if self.ctree is None:
@@ -490,8 +510,11 @@ def _real_entries(ctx: _Context, pieces, edges) -> np.ndarray:
 def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
     """The disk to add where a piece enters an obstacle, or None.
 
-    The deepest-entered other centre if there is one; else, for a piece that crosses a flat part, the
-    exact centre at an end of the crossed edge nearest to the piece; else the nearest centre.
+    The deepest-entered other centre if there is one. Else the piece came nearer than r only to edges of
+    the buffered shrink or grow (``edges``), which are inexact (GEOS simplifies S by up to r/100): a
+    tangent then enters nothing (the shrink's and grow's corners are the exact centres), and an arc
+    enters only the straight part joining its own centre to a corner at an end of those edges, checked
+    exactly (`_Context.joined`). A piece flagged for its midpoint alone takes the nearest centre.
     """
     if ctx.ctree is None:
         return None
@@ -501,20 +524,36 @@ def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
         d = shapely.distance(geom, shapely.points(ctx.cxy[near]))
         if d.min() < ctx.r - ctx.pen_center:
             return int(near[np.argmin(d)])
+    if edges:
+        if shapely.get_type_id(geom) == 1:
+            # The deepest point of the shrink (grow) towards a straight piece is one of its corners, an
+            # exact centre: none is entered, so the edges were nearer than they are.
+            return None
+        # An arc can also sweep past the straight edge that joins its own centre to the next corner, and
+        # enter the core or anticore between the two: that corner is the disk to add, if the segment to
+        # it truly lies in the shrink (grow), i.e. clears S by r.
+        (mine,) = own
+        for ci in _fallbacks(ctx, geom, own, edges, near):
+            if int(ctx.cside[ci]) == int(ctx.cside[mine]) and ctx.joined(mine, ci, geom):
+                return ci
+        return None
+    return next(iter(_fallbacks(ctx, geom, own, edges, near)), None)
+
+
+def _fallbacks(ctx: _Context, geom, own: set[int], edges, near: np.ndarray) -> list[int]:
+    """Centres to try where none is entered: those at the ends of the crossed edges, else all near ones;
+    nearest to ``geom`` first."""
     ends = []
     for e in edges:
         for p in ctx.oedges[e]:
             ci = ctx.vertex_center.get((float(p[0]), float(p[1])))
             if ci is not None and ci not in own:
                 ends.append(ci)
-    if ends:
-        ends = np.array(sorted(set(ends)), dtype=np.int64)
-        d = shapely.distance(geom, shapely.points(ctx.cxy[ends]))
-        return int(ends[np.argmin(d)])
-    if len(near):
-        d = shapely.distance(geom, shapely.points(ctx.cxy[near]))
-        return int(near[np.argmin(d)])
-    return None
+    pool = np.array(sorted(set(ends)), dtype=np.int64) if ends else near
+    if len(pool) == 0:
+        return []
+    d = shapely.distance(geom, shapely.points(ctx.cxy[pool]))
+    return pool[np.argsort(d, kind="stable")].tolist()
 
 
 def _chain_length(ctx: _Context, cids, sides) -> float:
@@ -547,11 +586,14 @@ def _finish(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray) -
     r = ctx.r
     last = None
     seen = set()
+    most = 4 * len(cid) + 64            # a finish that keeps adding disks is not settling (see the loop)
     for _ in range(_MAX_FINISH_STEPS):
         cid, side, ref = _dedupe(cid, side, ref)
         n = len(cid)
         if n == 0:
             return None
+        if n > most:
+            break
         c = ctx.cxy[cid]
         if n == 1:
             return _DiskLoop(cid, side, c, np.zeros(1), np.zeros(1), np.array([_TWO_PI * side[0]]), r)
