@@ -108,3 +108,95 @@ def test_centres_are_exact_and_valid(case):
 def test_bad_input():
     with pytest.raises(vt.InvalidRadiusError):
         vt.arc_centers(box(0, 0, 1, 1), 0)
+
+
+def _all_corners(S, r, side, piece):
+    """Brute force: every pair of features of S solved, the exact centres of ``side`` within r of piece."""
+    import itertools
+
+    from vectortighten._proximity import point_segment_distance
+    from vectortighten.centers import _distance_to_feature, _solve_pairs, boundary_edges
+
+    a, b, _ = boundary_edges(S)
+    feats = np.arange(2 * len(a))
+    fa, fb = np.array(list(itertools.combinations(feats, 2))).T
+    da, db = b[fa // 2] - a[fa // 2], b[fb // 2] - a[fb // 2]
+    cross = np.abs(da[:, 0] * db[:, 1] - da[:, 1] * db[:, 0])
+    parallel = (fa % 2 == 0) & (fb % 2 == 0) & (cross <= 1e-12 * np.hypot(*da.T) * np.hypot(*db.T))
+    own = (fa // 2 == fb // 2) & (fa % 2 != fb % 2)      # an edge's line with its own start: no corner
+    fa, fb = fa[~parallel & ~own], fb[~parallel & ~own]    # nor do parallel lines
+    row, _, sol = _solve_pairs(np.zeros((len(fa), 2)), fa, fb, a, b, r, side)
+    fa, fb = fa[row], fb[row]
+    ok = np.isfinite(sol).all(axis=1)
+    for f in (fa, fb):
+        ok &= np.abs(_distance_to_feature(sol, a[f // 2], b[f // 2], f % 2) - r) <= 1e-9 * r
+    sol = sol[ok]
+    d = np.array([point_segment_distance(np.repeat(p[None], len(a), 0), a, b).min() for p in sol])
+    inside = shapely.contains_xy(S, sol[:, 0], sol[:, 1]) == (side > 0)
+    sol = sol[(d >= r * (1 - 1e-9)) & inside & (shapely.distance(piece, shapely.points(sol)) < r)]
+    return np.unique(sol.round(9), axis=0)
+
+
+def _near(S, r, side, piece):
+    from vectortighten._proximity import EdgeIndex
+    from vectortighten.centers import boundary_edges, centres_near
+
+    S = vt.morphology._orient(S)
+    a, b, _ = boundary_edges(S)
+    out = centres_near(piece, side, S, a, b, EdgeIndex(a, b, r), r, 1.0)
+    return np.unique(out.round(9), axis=0)
+
+
+def test_centres_near_a_piece_box_and_notch():
+    # The shrink of the box has its corners r in from the box's; the grow of the L has one corner, at the
+    # reflex vertex (3, 3) moved out by r along both edges.
+    assert _near(box(0, 0, 10, 6), 1.0, 1, Point(0.5, 0.5)).tolist() == [[1.0, 1.0]]
+    assert _near(box(0, 0, 10, 6), 1.0, 1, shapely.LineString([(0.2, 0.5), (9.8, 0.5)])).tolist() == \
+        [[1.0, 1.0], [9.0, 1.0]]
+    L = Polygon([(0, 0), (10, 0), (10, 3), (3, 3), (3, 10), (0, 10)])
+    assert _near(L, 1.0, -1, Point(3.5, 3.5)).tolist() == [[4.0, 4.0]]
+    assert len(_near(L, 1.0, 1, Point(3.5, 3.5))) == 0          # (the core's corners are farther)
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_centres_near_finds_every_centre_the_brute_force_does(seed):
+    # A small pixel staircase, r several pixels: every exact centre within r of a piece, both sides,
+    # against all pairs of features solved (the covering argument of `centres_near`).
+    S = vt.morphology._orient(pixel_outline(150, seed))
+    x0, y0, x1, y1 = S.bounds
+    r = 0.08 * max(x1 - x0, y1 - y0)
+    rng = np.random.default_rng(seed)
+    for _ in range(4):
+        p, q = rng.uniform([x0, y0], [x1, y1], (2, 2))
+        piece = shapely.LineString([p, p + 0.3 * (q - p)])
+        for side in (1, -1):
+            assert _near(S, r, side, piece).tolist() == _all_corners(S, r, side, piece).tolist()
+
+
+def test_refine_with_no_feature_near_a_point_widens_instead_of_failing():
+    # The Mason of this shape shrinks a fillet with a vertex that no feature lies within r + w of at
+    # first: the refinement used to fail there with an IndexError (an empty array indexed by a mask).
+    S = shapely.from_wkt(
+        "POLYGON ((0 10, 10 10, 10 0, 0 0, 0 1.6548652302681501, 0.0682437609975624 1.223991080902669, "
+        "0.2995505263448734 0.770025993237622, 0.6598192597329997 0.4097572598494958, "
+        "1.1137843473980467 0.178450494502185, 1.6170085235986074 0.0987476149968833, "
+        "2.120232699799168 0.178450494502185, 2.574197787464215 0.4097572598494958, "
+        "2.9344665208523413 0.7700259932376222, 3.165773286199652 1.2239910809026693, "
+        "3.245476165704954 1.72721525710323, 3.165773286199652 2.230439433303791, "
+        "2.9344665208523413 2.684404520968838, 2.5741977874642146 3.0446732543569643, "
+        "2.1202326997991676 3.275980019704275, 1.6170085235986074 3.355682899209577, "
+        "1.1137843473980462 3.275980019704275, 0.6598192597329994 3.044673254356964, "
+        "0.299550526344873 2.6844045209688376, 0.0682437609975624 2.2304394333037907, "
+        "0 1.7995652839383096, 0 10), (4.391534819013868 6.861615772905922, "
+        "4.303083700811651 7.306289572566621, 4.051196227139903 7.68326581720701, "
+        "3.674219982499515 7.935153290878757, 3.229546182838816 8.023604409080974, "
+        "2.784872383178117 7.935153290878757, 2.407896138537728 7.68326581720701, "
+        "2.156008664865981 7.30628957256662, 2.0675575466637635 6.861615772905922, "
+        "2.156008664865981 6.4169419732452235, 2.4078961385377284 6.039965728604834, "
+        "2.7848723831781177 5.788078254933087, 3.229546182838816 5.69962713673087, "
+        "3.674219982499515 5.788078254933087, 4.051196227139904 6.039965728604834, "
+        "4.303083700811651 6.4169419732452235, 4.391534819013868 6.861615772905922))")
+    for init in ("core", "input", "mason"):
+        T = vt.tighten(S, 2.5, init=init)
+        assert T.verify() == []
+        assert T.perimeter == pytest.approx(28.669214, abs=1e-6)

@@ -274,6 +274,7 @@ def _clear_of_listed(xy, owner, dev, chk_start, chk_dist, chk_edge, a, b, limit,
 _MISSED_STEP_R = 5e-4                 # finest sampling (× r) along a buffer edge that lost centres
 _MISSED_SAMPLES = 50_000             # most sample points along such edges in all
 _LONE_R = 0.1                         # a recovered centre this near (× r) to a found one is left out
+_NEAR_GRID = 16                       # `centres_near` covers its disk with a grid of spacing r / this
 _PAIR_FEATURES = 6                    # the features nearest to a point among which pairs are solved
 
 
@@ -346,6 +347,8 @@ def _refine(points, side, a, b, nxt, index: EdgeIndex, r, window, scale, reach=N
         key = np.concatenate([2 * ei[line], 2 * ei[at0] + 1, 2 * nxt[ei[at1]] + 1])
         kd = _distance_to_feature(points[owner], a[key // 2], b[key // 2], key % 2)
         # Distinct (owner, key), sorted by owner, then distance, then key.
+        if len(owner) == 0:
+            continue                                  # no feature of S this near any point yet: widen
         order = np.lexsort((key, kd, owner))
         owner, key, kd = owner[order], key[order], kd[order]
         new = np.r_[True, (owner[1:] != owner[:-1]) | (key[1:] != key[:-1])]
@@ -556,7 +559,9 @@ def _missed_centres(P, S_rings, side, a, b, nxt, index: EdgeIndex, r, window, sc
     a k-d tree of them, or None), and no samples within half that of one. The exact finish inserts disks
     one at a time and does not settle among disks that close (it wound a loop round one of them on a
     30k-vertex pixel staircase), so where S has many features close together (such a staircase at r of a
-    thousand pixels) its lost centres stay lost. See the README's limitations. Their ``source`` is NaN (no vertex of ``P`` stands for them).
+    hundred pixels or more) the others are found only where a loop enters one (`centres_near`, through
+    the engine's rescue); see the README's limitations. Their ``source`` is NaN (no vertex of ``P``
+    stands for them).
     """
     empty = np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64), np.zeros((0, 2))
     if P.is_empty or len(a) == 0:
@@ -607,6 +612,98 @@ def _missed_centres(P, S_rings, side, a, b, nxt, index: EdgeIndex, r, window, sc
         keep[keep] = np.isinf(d)
     sol, feats = sol[keep], np.column_stack([fa, fb])[keep]
     return sol, feats, np.full((len(sol), 2), np.nan)
+
+
+def centres_near(piece, side, S_rings, a, b, index: EdgeIndex, r, scale, done: set | None = None) -> np.ndarray:
+    """Every exact centre of ``side`` nearer than r to ``piece`` (a shapely geometry), ``(k, 2)``.
+
+    The buffers lose centres where S has features closer together than their simplification (r/100):
+    a pixel staircase at r of more than a hundred pixels. Where a loop is found to enter the shrink (or
+    grow) near such a place, this finds its corners directly from S.
+
+    A centre is a point at distance exactly r from two features of S (edge lines, vertices) and no nearer
+    to any. The points of a lattice of spacing s (fixed: multiples of s in each coordinate) nearer than
+    r + h to ``piece`` are searched, h = s/√2: the lattice point g nearest a centre y is within h of it,
+    so g is at least r − h from S and both of y's features are at most r + h from g. So every pair of
+    features within r + h of one lattice point at least r − h from S is solved exactly, and the solutions
+    nearer than r to ``piece`` that are r from both features and clear every feature of S by r, on this
+    side of S, are returned (each once). ``done`` (a set of lattice keys, updated) skips the lattice points
+    searched before: their centres were found then.
+    """
+    tiny = ZERO_SCALE * scale
+    s = r / _NEAR_GRID
+    h = (s / math.sqrt(2)) * (1 + 1e-6) + tiny
+    x0, y0, x1, y1 = shapely.bounds(piece)
+    i = np.arange(math.floor((x0 - r - s) / s), math.ceil((x1 + r + s) / s) + 1, dtype=np.int64)
+    j = np.arange(math.floor((y0 - r - s) / s), math.ceil((y1 + r + s) / s) + 1, dtype=np.int64)
+    I, J = (m.ravel() for m in np.meshgrid(i, j))
+    if done is not None:
+        keys = (I << 32) + (J & 0xFFFFFFFF)
+        fresh = ~np.isin(keys, np.fromiter(done, dtype=np.int64, count=len(done)))
+        I, J, keys = I[fresh], J[fresh], keys[fresh]
+    g = np.column_stack([I * s, J * s]).astype(float)
+    near = shapely.distance(piece, shapely.points(g)) < r + h
+    g = g[near]
+    if done is not None:
+        done.update(keys[near].tolist())
+    if len(g) == 0:
+        return np.zeros((0, 2))
+    _, dist = index.nearest(g)
+    g = g[(dist >= r - h) & (dist <= r + h)]           # (a point farther than r + h has no feature near)
+    if len(g) == 0:
+        return np.zeros((0, 2))
+    pi, ei, _ = index.near_points(g, r + h)
+    # Each edge offers its line and its start (its end is the start of the next edge, as near); the
+    # features near each grid point, then their pairs.
+    owner = np.concatenate([pi, pi])
+    key = np.concatenate([2 * ei, 2 * ei + 1])
+    kd = _distance_to_feature(g[owner], a[key // 2], b[key // 2], key % 2)
+    near = kd <= r + h
+    owner, key = owner[near], key[near]
+    order = np.lexsort((key, owner))
+    owner, key = owner[order], key[order]
+    first = np.r_[True, (owner[1:] != owner[:-1]) | (key[1:] != key[:-1])]
+    owner, key = owner[first], key[first]
+    counts = np.bincount(owner, minlength=len(g))
+    starts = np.cumsum(counts) - counts
+    fa, fb = [], []
+    for m in np.unique(counts[counts > 1]).tolist():
+        at = starts[counts == m]
+        i, j = np.triu_indices(m, 1)
+        fa.append(key[(at[:, None] + i).ravel()])
+        fb.append(key[(at[:, None] + j).ravel()])
+    if not fa:
+        return np.zeros((0, 2))
+    base = 2 * len(a) + 2
+    pairs = np.unique(np.concatenate(fa) * base + np.concatenate(fb))
+    fa, fb = pairs // base, pairs % base
+    # Not an edge's line with its own start, nor two parallel lines (no corner: their offsets coincide
+    # or never meet).
+    da, db = b[fa // 2] - a[fa // 2], b[fb // 2] - a[fb // 2]
+    cross = np.abs(da[:, 0] * db[:, 1] - da[:, 1] * db[:, 0])
+    parallel = (fa % 2 == 0) & (fb % 2 == 0) & (cross <= 1e-12 * np.hypot(*da.T) * np.hypot(*db.T))
+    ok = ~((fa // 2 == fb // 2) & (fa % 2 != fb % 2)) & ~parallel
+    fa, fb = fa[ok], fb[ok]
+    row, _, sol = _solve_pairs(np.zeros((len(fa), 2)), fa, fb, a, b, r, side)
+    fa, fb = fa[row], fb[row]
+    good = np.isfinite(sol).all(axis=1)
+    good[good] = shapely.distance(piece, shapely.points(sol[good])) < r
+    for f in (fa, fb):
+        good[good] &= np.abs(_distance_to_feature(sol[good], a[f[good] // 2], b[f[good] // 2], f[good] % 2)
+                             - r) <= 10 * tiny
+    sol = sol[good]
+    if len(sol) == 0:
+        return sol
+    keep = index.clear_of(sol, r * (1 - 1e-9) - tiny)
+    keep[keep] = _inside(S_rings, sol[keep]) == (side > 0)
+    sol = sol[keep]
+    if len(sol) > 1:                  # one centre solved from several pairs: keep it once
+        pairs = cKDTree(sol).query_pairs(1e-10 * r, output_type="ndarray")
+        if len(pairs):
+            drop = np.zeros(len(sol), dtype=bool)
+            drop[pairs.max(axis=1)] = True
+            sol = sol[~drop]
+    return sol
 
 
 def _arc_centers(S, r, E, G, q) -> ArcCenters:

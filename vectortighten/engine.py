@@ -39,7 +39,7 @@ from . import morphology as _m
 from ._pieces import piece_distance
 from ._proximity import EdgeIndex, PointIndex
 from ._validation import check_radius, check_shape, check_tolerance, quad_segs_for
-from .centers import ArcCenters, _arc_centers, _snap_vertices, boundary_edges
+from .centers import ArcCenters, _arc_centers, _snap_vertices, boundary_edges, centres_near
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
@@ -139,6 +139,9 @@ class _Context:
         self._F = None
         self._domain = None
         self.violation_cache: dict = {}       # `_violations` outcomes by piece, for the exact finish
+        self.rescuing = False                 # `rescue` looks for lost centres (see `_finish`)
+        self._searched: dict[int, set] = {1: set(), -1: set()}     # … and where it has looked
+        self.n_rescued = 0
 
     # -- morphology, lazily ------------------------------------------------------------------------------
     # The core and fillet here only guide the search for each loop's homotopy class: the free space is
@@ -217,6 +220,50 @@ class _Context:
         tiny = ZERO_SCALE * max(x1 - x0, y1 - y0, self.r)
         si, _ = index.near_segments(self.cxy[[c1]], self.cxy[[c2]], self.r * (1 - 1e-9) - tiny)
         return len(si) == 0
+
+    def rescue(self, geom, edges) -> int | None:
+        """The centre lost by the buffers that ``geom`` enters most deeply, found from S, or None.
+
+        Asked where a piece comes nearer than r to ``edges`` of the buffered shrink or grow but to no
+        known centre (`_candidate`), once the finish has settled among the known ones (``rescuing``). The
+        exact centres of that side within r of the piece are found from S's features (`centres_near`;
+        the places searched before are skipped) and all new ones are added to the context.
+        """
+        if not self.rescuing:
+            return None
+        a, b, _, index = self._s_index()
+        r = self.r
+        x0, y0, x1, y1 = self.S.bounds
+        scale = max(x1 - x0, y1 - y0, r)
+        out = None
+        for side in sorted({int(self.okind[e]) for e in edges}):
+            xy = centres_near(geom, side, self.S, a, b, index, r, scale, self._searched[side])
+            mine = self.cside == side
+            if len(xy) and mine.any():
+                d, _ = cKDTree(self.cxy[mine]).query(xy)
+                xy = xy[d > 1e-10 * r]
+            if len(xy) == 0:
+                continue
+            n0 = len(self.cxy)
+            self._add_centres(xy, side)
+            new = np.arange(n0, len(self.cxy))
+            d = shapely.distance(geom, shapely.points(self.cxy[new]))
+            if d.min() < r - self.pen_center and (out is None or d.min() < out[1]):
+                out = (int(new[np.argmin(d)]), float(d.min()))
+        return None if out is None else out[0]
+
+    def _add_centres(self, xy: np.ndarray, side: int) -> None:
+        """Append exact centres of one side, and rebuild what is indexed on the centres."""
+        self.cxy = np.concatenate([self.cxy, xy])
+        self.cside = np.concatenate([self.cside, np.full(len(xy), side, dtype=np.int64)])
+        self.ctree = shapely.STRtree(shapely.points(self.cxy))
+        self._kd = {s: (cKDTree(self.cxy[self.cside == s]) if (self.cside == s).any() else None,
+                        np.flatnonzero(self.cside == s)) for s in (1, -1)}
+        for i, (x, y) in enumerate(xy.tolist()):
+            self.vertex_center[(float(x), float(y))] = len(self.cxy) - len(xy) + i
+        self.cindex = PointIndex(self.cxy)
+        self.violation_cache.clear()
+        self.n_rescued += len(xy)
 
     def _s_index(self):
         """S's edges (start, end, successor) and their proximity index, built on first use."""
@@ -395,6 +442,7 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
     thr_c = r - ctx.pen_center
     thr_e = r - ctx.pen
     n = L.n
+    n_centres = len(ctx.cxy)
     P, Q = L.tangent_points()
     a0 = L.arc_start()
     bad: dict[int, tuple[np.ndarray, set]] = {}
@@ -481,7 +529,9 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
             frac = ((th - a0[disk]) % _TWO_PI) / abs(L.sweep[disk]) if s > 0 else \
                 ((a0[disk] - th) % _TWO_PI) / abs(L.sweep[disk])
             found[piece] = (ci, side, -1 if frac < 0.5 else 1)
-    if cache is not None:
+    if cache is not None and len(ctx.cxy) != n_centres:
+        cache.clear()                     # centres were added on the way: outcomes before may be stale
+    elif cache is not None:
         for i in seg_ids.tolist():
             cache[keys[2 * i + 1]] = found.get(2 * i + 1)
         for i in arcs.tolist():
@@ -511,10 +561,11 @@ def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
     """The disk to add where a piece enters an obstacle, or None.
 
     The deepest-entered other centre if there is one. Else the piece came nearer than r only to edges of
-    the buffered shrink or grow (``edges``), which are inexact (GEOS simplifies S by up to r/100): a
-    tangent then enters nothing (the shrink's and grow's corners are the exact centres), and an arc
-    enters only the straight part joining its own centre to a corner at an end of those edges, checked
-    exactly (`_Context.joined`). A piece flagged for its midpoint alone takes the nearest centre.
+    the buffered shrink or grow (``edges``), which are inexact (GEOS simplifies S by up to r/100, both
+    ways): an arc may enter the straight part joining its own centre to a corner at an end of those
+    edges, checked exactly (`_Context.joined`); otherwise the piece enters a corner the buffers lost, or
+    nothing. Once the loop has settled among the known centres, `_Context.rescue` decides which, from S
+    itself. A piece flagged for its midpoint alone takes the nearest centre.
     """
     if ctx.ctree is None:
         return None
@@ -526,9 +577,9 @@ def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
             return int(near[np.argmin(d)])
     if edges:
         if shapely.get_type_id(geom) == 1:
-            # The deepest point of the shrink (grow) towards a straight piece is one of its corners, an
-            # exact centre: none is entered, so the edges were nearer than they are.
-            return None
+            # The deepest point of the shrink (grow) towards a straight piece is one of its corners: none
+            # known is entered, so it is a corner the buffers lost, or the edges were nearer than they are.
+            return ctx.rescue(geom, edges)
         # An arc can also sweep past the straight edge that joins its own centre to the next corner, and
         # enter the core or anticore between the two: that corner is the disk to add, if the segment to
         # it truly lies in the shrink (grow), i.e. clears S by r.
@@ -536,7 +587,7 @@ def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
         for ci in _fallbacks(ctx, geom, own, edges, near):
             if int(ctx.cside[ci]) == int(ctx.cside[mine]) and ctx.joined(mine, ci, geom):
                 return ci
-        return None
+        return ctx.rescue(geom, edges)
     return next(iter(_fallbacks(ctx, geom, own, edges, near)), None)
 
 
@@ -583,6 +634,14 @@ def _insert_before(ctx: _Context, cid, side, disk: int, ci: int, s: int) -> bool
 
 def _finish(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray) -> _DiskLoop | None:
     """Exact tight loop from an approximate cyclic disk sequence: drop wrong turns, add missed contacts."""
+    ctx.rescuing = False
+    try:
+        return _finish_steps(ctx, cid, side, ref)
+    finally:
+        ctx.rescuing = False
+
+
+def _finish_steps(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray) -> _DiskLoop | None:
     r = ctx.r
     last = None
     seen = set()
@@ -624,18 +683,33 @@ def _finish(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray) -
             return loop
         seen.add(state)
         viol = _violations(ctx, loop, ctx.violation_cache)
+        if not viol and not ctx.rescuing:
+            # Settled among the known centres: look once more, now also for the centres the buffers lost
+            # where a piece enters them (`_Context.rescue`), and go on if one is found.
+            ctx.rescuing = True
+            ctx.violation_cache.clear()
+            viol = _violations(ctx, loop, ctx.violation_cache)
         if not viol:
             return loop
         # Insert the candidates, from the back so that earlier indices stay valid. A disk that pokes out
         # of an arc goes before or after the arc's disk, whichever makes the shorter local chain.
-        ins = {}
+        # A disk that several pieces enter goes in once, where it lengthens the chain least: put in at
+        # each place, the loop would run back and forth between them.
+        places: dict[tuple[int, int], list[int]] = {}
         for piece, ci, s, where in viol:
             disk = piece // 2
             if piece % 2 == 1:
                 pos = disk + 1
             else:
                 pos = disk if _insert_before(ctx, cid, side, disk, ci, s) else disk + 1
-            ins.setdefault(pos, (ci, s))
+            places.setdefault((ci, s), []).append(pos)
+        ins = {}
+        for (ci, s), at in places.items():
+            at = sorted(set(at))
+            if len(at) > 1:
+                at.sort(key=lambda p: _chain_length(ctx, [cid[p - 1], ci, cid[p % n]],
+                                                    [side[p - 1], s, side[p % n]]))
+            ins.setdefault(at[0], (ci, s))
         cid_l, side_l, ref_l = cid.tolist(), side.tolist(), sw.tolist()
         for pos in sorted(ins, reverse=True):
             ci, s = ins[pos]
