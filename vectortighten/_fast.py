@@ -46,13 +46,22 @@ def _clean_ring(c: np.ndarray):
     if fewer than three vertices are left.
     """
     pts = c[:-1]
-    keep = (pts[:, 0] != np.roll(pts[:, 0], -1)) | (pts[:, 1] != np.roll(pts[:, 1], -1))
+    if len(pts) < 3:
+        return pts, None, None
+    v = np.empty_like(pts)                          # edge i, from vertex i to the next
+    np.subtract(pts[1:], pts[:-1], out=v[:-1])
+    np.subtract(pts[0], pts[-1], out=v[-1])
+    # A point equals the next one exactly when the edge between them is zero (the coordinates are finite,
+    # and a difference of two doubles is 0 only if they are equal).
+    keep = (v[:, 0] != 0) | (v[:, 1] != 0)
     if not keep.all():
         pts = pts[keep]
+        v = None
     for _ in range(3):
         if len(pts) < 3:
             return pts, None, None
-        v = np.roll(pts, -1, axis=0) - pts          # edge i, from vertex i to the next
+        if v is None:
+            v = np.roll(pts, -1, axis=0) - pts
         u = np.roll(v, 1, axis=0)                   # the edge arriving at vertex i
         cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
         dot = u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1]
@@ -61,7 +70,7 @@ def _clean_ring(c: np.ndarray):
         straight = (np.abs(sine) < ANGLE_ZERO) & (dot > 0)
         if not straight.any():
             return pts, v, ell
-        pts = pts[~straight]
+        pts, v = pts[~straight], None
     if len(pts) < 3:
         return pts, None, None
     v = np.roll(pts, -1, axis=0) - pts
@@ -501,6 +510,15 @@ class _Pieces:
         y[self._end] = x[self._nxt[self._end]]
         return y
 
+    def _succ2(self, x: np.ndarray) -> np.ndarray:
+        """``x[nxt[nxt]]``, copied in one sweep but at the last two pieces of each ring."""
+        y = np.empty_like(x)
+        y[:-2] = x[2:]
+        e = self._end
+        at = np.concatenate([e, e[e > 0] - 1])    # all that is two ahead of a ring's last piece, and more
+        y[at] = x[self._nxt[self._nxt[at]]]
+        return y
+
     def _pred(self, x: np.ndarray) -> np.ndarray:
         """``x[prev]``, where ``nxt[prev[i]] = i``."""
         y = np.empty_like(x)
@@ -533,7 +551,7 @@ class _Pieces:
         two -= rho
         yield "two_rho", two
         span = two
-        span -= self._succ(self._succ(rho))
+        span -= self._succ2(rho)
         span[self._succ(self.fat) > 0] = np.inf
         yield "span", span
 
