@@ -328,8 +328,8 @@ def _rounded_chain(D: _Rings):
 
 
 def _offset_chain(D: _Rings, side: int):
-    """The raw offset curves of this side (see above `_offset_certified`): at vertex i the arc around it if
-    its disk is on the other side, then edge i moved by r (`_Rings.offsets`).
+    """The raw offset curves of this side (see the comment above `_offset_certified`): at vertex i the
+    arc around it if its disk is on the other side, then edge i moved by r (`_Rings.offsets`).
 
     Each piece ends where the next starts: the arc around vertex k runs from where the offset of the edge
     arriving at k ends to where that of the edge leaving k starts (both r from k, along the edges'
