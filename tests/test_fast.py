@@ -310,9 +310,7 @@ def test_dense_ring_settled_at_the_top_level():
     # A 200k-piece smooth ring: the straight windows settle nearly every pair of blocks at once.
     S = Polygon(wavy(100_000))
     S_local, D = _rings(S, 0.5)
-    t = D.t
-    chain = _fast._chain(D, None, D.v - t[:, None] * D._pred(D.u), D.v + t[:, None] * D.u,
-                         D.r * (1 - np.cos(0.5 * D.theta)), D.v, D._succ(D.v))
+    chain = _fast._rounded_chain(D)
     A, B, fat, nxt, first = chain
     assert len(A) == 200_000
     across = np.where(fat[nxt] > 0, nxt[nxt], nxt)
@@ -320,3 +318,23 @@ def test_dense_ring_settled_at_the_top_level():
              if j not in (nxt[i], across[i]) and i not in (nxt[j], across[j])]
     assert len(found) < 100
     assert _fast._separated(*chain, _fast._CONTACT * D.r)
+
+
+@pytest.mark.parametrize("side", [1, -1])
+def test_offset_chain_is_the_offsets_and_arcs_of_its_side(side):
+    # The chain is built from the points where its pieces meet: its segments must be `_Rings.offsets`
+    # exactly and its arcs run between the ends of the arcs of `_Rings.arcs` (up to rounding), in ring order.
+    S = Polygon(wavy(2000, amp=0.1), [wavy(500, amp=0.05, rad=3.0, center=(2.0, 1.0), hole=True)])
+    _, D = _rings(S, 0.3)
+    A, B, fat, nxt, first = _fast._offset_chain(D, side)
+    seg, arc = fat == 0, fat > 0
+    pieces = D.offsets(side)
+    assert np.array_equal(A[seg], pieces[:, 0]) and np.array_equal(B[seg], pieces[:, 1])
+    centres, start, sweep = D.arcs(side)
+    r = D.r
+    a = centres + r * np.column_stack([np.cos(start), np.sin(start)])
+    b = centres + r * np.column_stack([np.cos(start + sweep), np.sin(start + sweep)])
+    assert np.allclose(A[arc], a, rtol=0, atol=1e-14) and np.allclose(B[arc], b, rtol=0, atol=1e-14)
+    assert np.array_equal(fat[arc], r * (1 - np.cos(0.5 * sweep)))
+    assert np.array_equal(B, A[nxt])                                    # a closed chain per ring
+    assert np.array_equal(np.unique(first), [0, np.flatnonzero(first)[0]])

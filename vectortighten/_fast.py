@@ -46,13 +46,22 @@ def _clean_ring(c: np.ndarray):
     if fewer than three vertices are left.
     """
     pts = c[:-1]
-    keep = (pts[:, 0] != np.roll(pts[:, 0], -1)) | (pts[:, 1] != np.roll(pts[:, 1], -1))
+    if len(pts) < 3:
+        return pts, None, None
+    v = np.empty_like(pts)                          # edge i, from vertex i to the next
+    np.subtract(pts[1:], pts[:-1], out=v[:-1])
+    np.subtract(pts[0], pts[-1], out=v[-1])
+    # A point equals the next one exactly when the edge between them is zero (the coordinates are finite,
+    # and a difference of two doubles is 0 only if they are equal).
+    keep = (v[:, 0] != 0) | (v[:, 1] != 0)
     if not keep.all():
         pts = pts[keep]
+        v = None
     for _ in range(3):
         if len(pts) < 3:
             return pts, None, None
-        v = np.roll(pts, -1, axis=0) - pts          # edge i, from vertex i to the next
+        if v is None:
+            v = np.roll(pts, -1, axis=0) - pts
         u = np.roll(v, 1, axis=0)                   # the edge arriving at vertex i
         cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
         dot = u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1]
@@ -61,7 +70,7 @@ def _clean_ring(c: np.ndarray):
         straight = (np.abs(sine) < ANGLE_ZERO) & (dot > 0)
         if not straight.any():
             return pts, v, ell
-        pts = pts[~straight]
+        pts, v = pts[~straight], None
     if len(pts) < 3:
         return pts, None, None
     v = np.roll(pts, -1, axis=0) - pts
@@ -108,6 +117,14 @@ class _Rings:
         self.length = self.ell - self.t - self._succ(self.t)            # straight piece on edge i
         self.phi = np.arctan2(uy, ux)
         self._offsets, self._arcs = {}, {}
+        self._sagitta = None
+
+    @property
+    def sagitta(self) -> np.ndarray:
+        """How far the arc of radius r at each vertex strays from its chord: r·(1 − cos(θ/2))."""
+        if self._sagitta is None:
+            self._sagitta = self.r * (1 - np.cos(0.5 * self.theta))
+        return self._sagitta
 
     def _succ(self, x: np.ndarray) -> np.ndarray:
         """``x[next]``, copied in one sweep but at the rings' ends."""
@@ -254,16 +271,12 @@ def _offset_certified(D: _Rings, S, side: int) -> bool:
     """Whether the raw offset curves of this side provably keep distance r from every edge of S."""
     if (D.length <= _CONTACT * D.r).any():
         return False                          # a piece too short for its direction to be sure
-    seg_a, seg_b = D._offset_ends(side)
-    centres, start, sweep = D.arcs(side)
-    k = np.flatnonzero(D.side != side)        # vertices with an arc, in the order of `_Rings.arcs`
-    arc_a = centres + D.r * np.column_stack([np.cos(start), np.sin(start)])
-    arc_b = centres + D.r * np.column_stack([np.cos(start + sweep), np.sin(start + sweep)])
-    chain = _chain(D, k, arc_a, arc_b, D.r * (1 - np.cos(0.5 * sweep)), seg_a, seg_b)
+    chain = _offset_chain(D, side)
     if not _separated(*chain, _CONTACT * D.r):
         return False
     # One point of each ring's curve, the start of its first straight piece, decides the sign of f there.
-    p0 = seg_a[D._first]
+    f = D._first
+    p0 = np.where((D.side[f] == side)[:, None], D.c[f], D.v[f] + side * D.r * D.n[f])
     if (shapely.contains_xy(S, p0[:, 0], p0[:, 1]) != (side > 0)).any():
         return False
     limit = D.r * (1 - _EXACT)
@@ -285,47 +298,73 @@ def _offset_certified(D: _Rings, S, side: int) -> bool:
 def _rounded_certified(D: _Rings) -> bool:
     """Whether no arc of a certified side (`_offset_certified`) can enter the core (+1) or the anticore (−1).
 
-    One chain serves both sides: every corner's arc, each followed by its whole outgoing edge. The rings
-    with only the convex (or only the reflex) corners rounded are made of these arcs and parts of these
-    edges, with the same pieces next to each other, so if this chain does not touch itself neither do they.
+    One chain serves both sides (`_rounded_chain`): every corner's arc, each followed by its whole outgoing
+    edge. The rings with only the convex (or only the reflex) corners rounded are made of these arcs and
+    parts of these edges, with the same pieces next to each other, so if this chain does not touch itself
+    neither do they.
     """
-    t = D.t
-    arc_a = D.v - t[:, None] * D._pred(D.u)
-    arc_b = D.v + t[:, None] * D.u
-    fat = D.r * (1 - np.cos(0.5 * D.theta))
-    return _separated(*_chain(D, None, arc_a, arc_b, fat, D.v, D._succ(D.v)), _CONTACT * D.r)
+    return _separated(*_rounded_chain(D), _CONTACT * D.r)
 
 
-def _chain(D: _Rings, k, arc_a, arc_b, arc_fat, seg_a, seg_b):
-    """One closed chain of pieces per ring: at vertex i the arc (if i is in ``k``, sorted; every vertex if
-    ``k`` is None) then the segment on edge i. Returns chord ends ``A``, ``B``, how far each piece may
-    stray from its chord (``fat``, the sagitta of an arc; > 0 marks the arcs), the index of the next piece
-    of the same ring and of the first piece of each piece's ring."""
-    nv = len(D.v)
-    # Ends stored a coordinate at a time (Fortran order): `_separated` reads them so.
-    if k is None:
-        m = 2 * nv
-        A, B, fat = np.empty((m, 2), order="F"), np.empty((m, 2), order="F"), np.zeros(m)
-        A[0::2], A[1::2], B[0::2], B[1::2] = arc_a, seg_a, arc_b, seg_b
-        fat[0::2] = np.maximum(arc_fat, 1e-300)
-        starts = 2 * D._first
-    else:
-        has_arc = np.zeros(nv, bool)
-        has_arc[k] = True
-        count = 1 + has_arc
-        seg_at = np.cumsum(count) - 1             # index of edge i's segment; its arc, if any, just before
-        m = int(seg_at[-1]) + 1
-        A, B, fat = np.empty((m, 2), order="F"), np.empty((m, 2), order="F"), np.zeros(m)
-        arc_at = seg_at[k] - 1
-        for X, seg, arc in ((A, seg_a, arc_a), (B, seg_b, arc_b)):
-            for col in (0, 1):                  # a coordinate at a time: several times faster than rows
-                X[seg_at, col], X[arc_at, col] = seg[:, col], arc[:, col]
-        fat[arc_at] = np.maximum(arc_fat, 1e-300)
-        starts = seg_at[D._first] - has_arc[D._first]
+# A chain (`_separated`) is returned as chord ends ``A``, ``B`` ((m, 2), stored a coordinate at a time, in
+# Fortran order, as `_separated` reads them), how far each piece may stray from its chord (``fat``, the
+# sagitta of an arc; > 0 marks the arcs), the index of the next piece of the same ring and of the first
+# piece of each piece's ring. The pieces of a ring follow one another, from the arc (if any) at its first
+# vertex. The ends are built a coordinate at a time: several times faster than rows.
+
+def _rounded_chain(D: _Rings):
+    """Every vertex's arc (between its tangent points) followed by the whole edge that leaves it."""
+    nv, t = len(D.v), D.t
+    m = 2 * nv
+    A, B, fat = np.empty((m, 2), order="F"), np.empty((m, 2), order="F"), np.zeros(m)
+    for col in (0, 1):
+        v, u = D.v[:, col], D.u[:, col]
+        np.subtract(v, t * D._pred(u), out=A[0::2, col])
+        A[1::2, col] = v
+        np.add(v, t * u, out=B[0::2, col])
+        B[1::2, col] = D._succ(v)
+    np.maximum(D.sagitta, 1e-300, out=fat[0::2])
+    return (A, B, fat) + _links(2 * D._first, m)
+
+
+def _offset_chain(D: _Rings, side: int):
+    """The raw offset curves of this side (see the comment above `_offset_certified`): at vertex i the
+    arc around it if its disk is on the other side, then edge i moved by r (`_Rings.offsets`).
+
+    Each piece ends where the next starts: the arc around vertex k runs from where the offset of the edge
+    arriving at k ends to where that of the edge leaving k starts (both r from k, along the edges'
+    normals), and a segment ends at the next vertex's disk centre or where the next arc starts. So the
+    chain is built from the points where its pieces meet, each piece's end being the next one's start.
+    """
+    mine = D.side == side
+    k = np.flatnonzero(~mine)
+    seg_at = np.cumsum(2 - mine) - 1                # index of edge i's segment; its arc, if any, just before
+    m = int(seg_at[-1]) + 1
+    arc_at = seg_at[k] - 1
+    kp = D.prev[k]
+    shift = side * D.r * D.n
+    A, B, fat = np.empty((m, 2), order="F"), np.empty((m, 2), order="F"), np.zeros(m)
+    for col in (0, 1):
+        v, sh = D.v[:, col], shift[:, col]
+        a = v + sh                                  # `_Rings.offsets`: the segments' starts
+        np.copyto(a, D.c[:, col], where=mine)
+        A[seg_at, col] = a
+        A[arc_at, col] = v[k] + sh[kp]              # where the offset of edge prev[k] ends
+    fat[arc_at] = np.maximum(D.sagitta[k], 1e-300)
+    starts = seg_at[D._first] - (~mine[D._first])
+    nxt, first = _links(starts, m)
+    B[:-1] = A[1:]
+    B[np.append(starts[1:], m) - 1] = A[starts]
+    return A, B, fat, nxt, first
+
+
+def _links(starts: np.ndarray, m: int):
+    """``nxt`` and ``first`` of a chain of m pieces whose rings start at ``starts``."""
     nxt = np.arange(1, m + 1)
     nxt[np.append(starts[1:], m) - 1] = starts        # the last piece of a ring is followed by its first
-    first = np.repeat(starts, np.diff(np.append(starts, m)))
-    return A, B, fat, nxt, first
+    if len(starts) == 1:
+        return nxt, np.zeros(m, np.int64)
+    return nxt, np.repeat(starts, np.diff(np.append(starts, m)))
 
 
 def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, first: np.ndarray,
@@ -471,6 +510,15 @@ class _Pieces:
         y[self._end] = x[self._nxt[self._end]]
         return y
 
+    def _succ2(self, x: np.ndarray) -> np.ndarray:
+        """``x[nxt[nxt]]``, copied in one sweep but at the last two pieces of each ring."""
+        y = np.empty_like(x)
+        y[:-2] = x[2:]
+        e = self._end
+        at = np.concatenate([e, e[e > 0] - 1])    # all that is two ahead of a ring's last piece, and more
+        y[at] = x[self._nxt[self._nxt[at]]]
+        return y
+
     def _pred(self, x: np.ndarray) -> np.ndarray:
         """``x[prev]``, where ``nxt[prev[i]] = i``."""
         y = np.empty_like(x)
@@ -503,7 +551,7 @@ class _Pieces:
         two -= rho
         yield "two_rho", two
         span = two
-        span -= self._succ(self._succ(rho))
+        span -= self._succ2(rho)
         span[self._succ(self.fat) > 0] = np.inf
         yield "span", span
 

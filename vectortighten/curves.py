@@ -312,7 +312,7 @@ class Loop:
     """
 
     # A loop never changes after construction, so its exact (compensated) sums are computed once.
-    __slots__ = ("_arc", "_data", "_pieces", "_area", "_length", "_terms")
+    __slots__ = ("_arc", "_data", "_pieces", "_area", "_length", "_terms", "_start_cs")
 
     def __init__(self, pieces: Iterable[Piece], atol: float | None = None):
         pieces = tuple(pieces)
@@ -322,7 +322,7 @@ class Loop:
         data = np.array([(p.center[0], p.center[1], p.radius, p.start_angle, p.sweep) if isinstance(p, Arc)
                          else (p.start[0], p.start[1], p.end[0], p.end[1], 0.0) for p in pieces], dtype=float)
         self._arc, self._data, self._pieces = arc, data, pieces
-        self._area = self._length = self._terms = None
+        self._area = self._length = self._terms = self._start_cs = None
         self._check_closed(atol)
 
     @classmethod
@@ -334,7 +334,7 @@ class Loop:
         self = object.__new__(cls)
         self._arc = np.asarray(arc, dtype=bool)
         self._data = np.asarray(data, dtype=float)
-        self._pieces = self._area = self._length = self._terms = None
+        self._pieces = self._area = self._length = self._terms = self._start_cs = None
         self._check_closed(atol)
         return self
 
@@ -527,9 +527,18 @@ class Loop:
             x0, y0 = e[:, 0] - o[0], e[:, 1] - o[1]
             r, a0, sw = e[:, 2], e[:, 3], e[:, 4]
             a1 = a0 + sw
-            terms[arc] = 0.5 * (r * r * sw + r * x0 * (np.sin(a1) - np.sin(a0))
-                                - r * y0 * (np.cos(a1) - np.cos(a0)))
+            cos0, sin0 = self._arc_start_cs()
+            terms[arc] = 0.5 * (r * r * sw + r * x0 * (np.sin(a1) - sin0)
+                                - r * y0 * (np.cos(a1) - cos0))
         return terms
+
+    def _arc_start_cs(self) -> tuple[np.ndarray, np.ndarray]:
+        """Cosine and sine of every arc's start angle (the arcs' rows of `_rows`), computed once: the area
+        and the samples both need them."""
+        if self._start_cs is None:
+            a0 = self._data[self._rows()[0], 3]
+            self._start_cs = (np.cos(a0), np.sin(a0))
+        return self._start_cs
 
     def _rows(self):
         """Find the rows of the arcs and of the segments.
@@ -656,14 +665,14 @@ class Loop:
         step = np.where(tolerance >= r, math.pi / 2, 2.0 * np.arccos(np.clip(1.0 - tolerance / r, -1.0, 1.0)))
         count = np.maximum(1, np.ceil(np.abs(e[:, 4]) / step - 1e-9)).astype(np.int64)
         if (count == 1).all():
-            # One point a piece, its start (arcs at the fraction 0 of their sweep).
+            # One point a piece, its start (arcs at their start angle).
             out = np.empty((len(d) + 1, 2))
             out[:-1] = d[:, :2]
-            th = e[:, 3] + e[:, 4] * 0.0
+            cos0, sin0 = self._arc_start_cs()
             pts = out[:-1][ia]
-            np.multiply(r, np.cos(th), out=pts[:, 0])
+            np.multiply(r, cos0, out=pts[:, 0])
             pts[:, 0] += e[:, 0]
-            np.multiply(r, np.sin(th), out=pts[:, 1])
+            np.multiply(r, sin0, out=pts[:, 1])
             pts[:, 1] += e[:, 1]
             out[:-1][ia] = pts
             out[-1] = out[0]
