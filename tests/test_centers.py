@@ -142,8 +142,8 @@ def _near(S, r, side, piece):
     from vectortighten.centers import boundary_edges, centres_near
 
     S = vt.morphology._orient(S)
-    a, b, _ = boundary_edges(S)
-    out = centres_near(piece, side, S, a, b, EdgeIndex(a, b, r), r, 1.0)
+    a, b, nxt = boundary_edges(S)
+    out = centres_near(piece, side, S, a, b, nxt, EdgeIndex(a, b, r), r, 1.0)
     return np.unique(out.round(9), axis=0)
 
 
@@ -158,11 +158,20 @@ def test_centres_near_a_piece_box_and_notch():
     assert len(_near(L, 1.0, 1, Point(3.5, 3.5))) == 0          # (the core's corners are farther)
 
 
-@pytest.mark.parametrize("seed", [1, 2, 3])
-def test_centres_near_finds_every_centre_the_brute_force_does(seed):
-    # A small pixel staircase, r several pixels: every exact centre within r of a piece, both sides,
-    # against all pairs of features solved (the covering argument of `centres_near`).
-    S = vt.morphology._orient(pixel_outline(150, seed))
+def _random_star(seed, k=40):
+    rng = np.random.default_rng(seed)
+    th = np.sort(rng.uniform(0, 2 * np.pi, k))
+    rad = rng.uniform(3, 10, k)
+    return Polygon(np.column_stack([rad * np.cos(th), rad * np.sin(th)]))
+
+
+@pytest.mark.parametrize("kind,seed", [("staircase", 1), ("staircase", 2), ("staircase", 3),
+                                       ("star", 4), ("star", 5), ("star", 6)])
+def test_centres_near_finds_every_centre_the_brute_force_does(kind, seed):
+    # A small pixel staircase (r several pixels) and a random star (edges every way): every exact centre
+    # within r of a piece, both sides, against all pairs of features solved (`centres_near`'s covering).
+    S = pixel_outline(150, seed) if kind == "staircase" else _random_star(seed)
+    S = vt.morphology._orient(S)
     x0, y0, x1, y1 = S.bounds
     r = 0.08 * max(x1 - x0, y1 - y0)
     rng = np.random.default_rng(seed)

@@ -614,7 +614,7 @@ def _missed_centres(P, S_rings, side, a, b, nxt, index: EdgeIndex, r, window, sc
     return sol, feats, np.full((len(sol), 2), np.nan)
 
 
-def centres_near(piece, side, S_rings, a, b, index: EdgeIndex, r, scale, done: set | None = None) -> np.ndarray:
+def centres_near(piece, side, S_rings, a, b, nxt, index: EdgeIndex, r, scale, done: set | None = None) -> np.ndarray:
     """Every exact centre of ``side`` nearer than r to ``piece`` (a shapely geometry), ``(k, 2)``.
 
     The buffers lose centres where S has features closer together than their simplification (r/100):
@@ -624,8 +624,11 @@ def centres_near(piece, side, S_rings, a, b, index: EdgeIndex, r, scale, done: s
     A centre is a point at distance exactly r from two features of S (edge lines, vertices) and no nearer
     to any. The points of a lattice of spacing s (fixed: multiples of s in each coordinate) nearer than
     r + h to ``piece`` are searched, h = s/√2: the lattice point g nearest a centre y is within h of it,
-    so g is at least r − h from S and both of y's features are at most r + h from g. So every pair of
-    features within r + h of one lattice point at least r − h from S is solved exactly, and the solutions
+    so g is at least r − h from S and both of y's features are at most r + h from g. A feature is also
+    one of y's only if y sees it squarely: an edge's line only if y's foot falls on the edge, a vertex
+    only if y's feet on the lines of both its edges fall beyond it (else a point of an edge is nearer);
+    from g, to within h. So every pair of features that one lattice point at least r − h from S sees so,
+    within r + h, is solved exactly, and the solutions
     nearer than r to ``piece`` that are r from both features and clear every feature of S by r, on this
     side of S, are returned (each once). ``done`` (a set of lattice keys, updated) skips the lattice points
     searched before: their centres were found then.
@@ -653,10 +656,21 @@ def centres_near(piece, side, S_rings, a, b, index: EdgeIndex, r, scale, done: s
     if len(g) == 0:
         return np.zeros((0, 2))
     pi, ei, _ = index.near_points(g, r + h)
-    # Each edge offers its line and its start (its end is the start of the next edge, as near); the
-    # features near each grid point, then their pairs.
-    owner = np.concatenate([pi, pi])
-    key = np.concatenate([2 * ei, 2 * ei + 1])
+    # Each edge offers its line and its start (its end is the start of the next edge, as near), where
+    # the lattice point sees them squarely; the features near each lattice point, then their pairs.
+    prv = np.empty_like(nxt)
+    prv[nxt] = np.arange(len(nxt))
+
+    def foot(x, e):                         # where x falls along edge e: 0 at its start, 1 at its end
+        d = b[e] - a[e]
+        return np.einsum("ij,ij->i", x - a[e], d) / np.einsum("ij,ij->i", d, d), h / np.hypot(*d.T)
+
+    t, slack = foot(g[pi], ei)
+    on_edge = (t >= -slack) & (t <= 1 + slack)
+    tp, slack_p = foot(g[pi], prv[ei])
+    at_start = (t <= slack) & (tp >= 1 - slack_p)
+    owner = np.concatenate([pi[on_edge], pi[at_start]])
+    key = np.concatenate([2 * ei[on_edge], 2 * ei[at_start] + 1])
     kd = _distance_to_feature(g[owner], a[key // 2], b[key // 2], key % 2)
     near = kd <= r + h
     owner, key = owner[near], key[near]

@@ -231,13 +231,13 @@ class _Context:
         """
         if not self.rescuing:
             return None
-        a, b, _, index = self._s_index()
+        a, b, nxt, index = self._s_index()
         r = self.r
         x0, y0, x1, y1 = self.S.bounds
         scale = max(x1 - x0, y1 - y0, r)
         out = None
         for side in sorted({int(self.okind[e]) for e in edges}):
-            xy = centres_near(geom, side, self.S, a, b, index, r, scale, self._searched[side])
+            xy = centres_near(geom, side, self.S, a, b, nxt, index, r, scale, self._searched[side])
             mine = self.cside == side
             if len(xy) and mine.any():
                 d, _ = cKDTree(self.cxy[mine]).query(xy)
