@@ -139,11 +139,11 @@ def _all_corners(S, r, side, piece):
 
 def _near(S, r, side, piece):
     from vectortighten._proximity import EdgeIndex
-    from vectortighten.centers import boundary_edges, centres_near
+    from vectortighten.centers import _centres_near, boundary_edges
 
     S = vt.morphology._orient(S)
     a, b, nxt = boundary_edges(S)
-    out = centres_near(piece, side, S, a, b, nxt, EdgeIndex(a, b, r), r, 1.0)
+    out = _centres_near(piece, side, S, a, b, nxt, EdgeIndex(a, b, r), r, 1.0)
     return np.unique(out.round(9), axis=0)
 
 
@@ -169,7 +169,7 @@ def _random_star(seed, k=40):
                                        ("star", 4), ("star", 5), ("star", 6)])
 def test_centres_near_finds_every_centre_the_brute_force_does(kind, seed):
     # A small pixel staircase (r several pixels) and a random star (edges every way): every exact centre
-    # within r of a piece, both sides, against all pairs of features solved (`centres_near`'s covering).
+    # within r of a piece, both sides, against all pairs of features solved (`_centres_near`'s covering).
     S = pixel_outline(150, seed) if kind == "staircase" else _random_star(seed)
     S = vt.morphology._orient(S)
     x0, y0, x1, y1 = S.bounds

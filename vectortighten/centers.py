@@ -274,7 +274,7 @@ def _clear_of_listed(xy, owner, dev, chk_start, chk_dist, chk_edge, a, b, limit,
 _MISSED_STEP_R = 5e-4                 # finest sampling (× r) along a buffer edge that lost centres
 _MISSED_SAMPLES = 50_000             # most sample points along such edges in all
 _LONE_R = 0.1                         # a recovered centre this near (× r) to a found one is left out
-_NEAR_GRID = 16                       # `centres_near` covers its disk with a grid of spacing r / this
+_NEAR_GRID = 16                       # `_centres_near` covers its disk with a grid of spacing r / this
 _PAIR_FEATURES = 6                    # the features nearest to a point among which pairs are solved
 
 
@@ -559,7 +559,7 @@ def _missed_centres(P, S_rings, side, a, b, nxt, index: EdgeIndex, r, window, sc
     a k-d tree of them, or None), and no samples within half that of one. The exact finish inserts disks
     one at a time and does not settle among disks that close (it wound a loop round one of them on a
     30k-vertex pixel staircase), so where S has many features close together (such a staircase at r of a
-    hundred pixels or more) the others are found only where a loop enters one (`centres_near`, through
+    hundred pixels or more) the others are found only where a loop enters one (`_centres_near`, through
     the engine's rescue); see the README's limitations. Their ``source`` is NaN (no vertex of ``P``
     stands for them).
     """
@@ -614,7 +614,8 @@ def _missed_centres(P, S_rings, side, a, b, nxt, index: EdgeIndex, r, window, sc
     return sol, feats, np.full((len(sol), 2), np.nan)
 
 
-def centres_near(piece, side, S_rings, a, b, nxt, index: EdgeIndex, r, scale, done: set | None = None) -> np.ndarray:
+def _centres_near(piece, side, S_rings, a, b, nxt, index: EdgeIndex, r, scale,
+                  done: set | None = None) -> np.ndarray:
     """Every exact centre of ``side`` nearer than r to ``piece`` (a shapely geometry), ``(k, 2)``.
 
     The buffers lose centres where S has features closer together than their simplification (r/100):

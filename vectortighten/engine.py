@@ -39,7 +39,7 @@ from . import morphology as _m
 from ._pieces import piece_distance
 from ._proximity import EdgeIndex, PointIndex
 from ._validation import check_radius, check_shape, check_tolerance, quad_segs_for
-from .centers import ArcCenters, _arc_centers, _snap_vertices, boundary_edges, centres_near
+from .centers import ArcCenters, _arc_centers, _centres_near, _snap_vertices, boundary_edges
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
@@ -226,7 +226,7 @@ class _Context:
 
         Asked where a piece comes nearer than r to ``edges`` of the buffered shrink or grow but to no
         known centre (`_candidate`), once the finish has settled among the known ones (``rescuing``). The
-        exact centres of that side within r of the piece are found from S's features (`centres_near`;
+        exact centres of that side within r of the piece are found from S's features (`_centres_near`;
         the places searched before are skipped) and all new ones are added to the context.
         """
         if not self.rescuing:
@@ -237,7 +237,7 @@ class _Context:
         scale = max(x1 - x0, y1 - y0, r)
         out = None
         for side in sorted({int(self.okind[e]) for e in edges}):
-            xy = centres_near(geom, side, self.S, a, b, nxt, index, r, scale, self._searched[side])
+            xy = _centres_near(geom, side, self.S, a, b, nxt, index, r, scale, self._searched[side])
             mine = self.cside == side
             if len(xy) and mine.any():
                 d, _ = cKDTree(self.cxy[mine]).query(xy)
