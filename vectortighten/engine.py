@@ -114,9 +114,7 @@ class _Context:
         shapely.prepare(self.E)
         shapely.prepare(self.G)
         self.cxy, self.cside = _distinct_centers(self.centers.xy, self.centers.side.astype(np.int64), r)
-        self.ctree = shapely.STRtree(shapely.points(self.cxy)) if len(self.cxy) else None
-        self._kd = {s: (cKDTree(self.cxy[self.cside == s]) if (self.cside == s).any() else None,
-                        np.flatnonzero(self.cside == s)) for s in (1, -1)}
+        self._index_centres()
         self._s_edges = None
         edges, kinds = [], []
         for kind, P in ((1, self.E), (-1, self.G)):
@@ -131,9 +129,7 @@ class _Context:
         shapely.prepare(self.S)
         self.S_boundary = self.S.boundary
         shapely.prepare(self.S_boundary)
-        self.vertex_center = {(float(x), float(y)): i for i, (x, y) in enumerate(self.cxy.tolist())}
-        # The same centres and obstacle edges for the finish's grazing queries (see `_proximity`).
-        self.cindex = PointIndex(self.cxy)
+        # The obstacle edges for the finish's grazing queries (see `_proximity`).
         self.oindex = EdgeIndex(self.oedges[:, 0], self.oedges[:, 1], r)
         self._R = None
         self._F = None
@@ -141,7 +137,6 @@ class _Context:
         self.violation_cache: dict = {}       # `_violations` outcomes by piece, for the exact finish
         self.rescuing = False                 # `rescue` looks for lost centres (see `_finish`)
         self._searched: dict[int, set] = {1: set(), -1: set()}     # … and where it has looked
-        self.n_rescued = 0
 
     # -- morphology, lazily ------------------------------------------------------------------------------
     # The core and fillet here only guide the search for each loop's homotopy class: the free space is
@@ -238,9 +233,9 @@ class _Context:
         out = None
         for side in sorted({int(self.okind[e]) for e in edges}):
             xy = _centres_near(geom, side, self.S, a, b, nxt, index, r, scale, self._searched[side])
-            mine = self.cside == side
-            if len(xy) and mine.any():
-                d, _ = cKDTree(self.cxy[mine]).query(xy)
+            known = self._kd[side][0]
+            if len(xy) and known is not None:
+                d, _ = known.query(xy)
                 xy = xy[d > 1e-10 * r]
             if len(xy) == 0:
                 continue
@@ -256,14 +251,16 @@ class _Context:
         """Append exact centres of one side, and rebuild what is indexed on the centres."""
         self.cxy = np.concatenate([self.cxy, xy])
         self.cside = np.concatenate([self.cside, np.full(len(xy), side, dtype=np.int64)])
-        self.ctree = shapely.STRtree(shapely.points(self.cxy))
+        self._index_centres()
+        self.violation_cache.clear()
+
+    def _index_centres(self) -> None:
+        """The centres indexed: an R-tree, a k-d tree a side, by coordinates, and for grazing queries."""
+        self.ctree = shapely.STRtree(shapely.points(self.cxy)) if len(self.cxy) else None
         self._kd = {s: (cKDTree(self.cxy[self.cside == s]) if (self.cside == s).any() else None,
                         np.flatnonzero(self.cside == s)) for s in (1, -1)}
-        for i, (x, y) in enumerate(xy.tolist()):
-            self.vertex_center[(float(x), float(y))] = len(self.cxy) - len(xy) + i
+        self.vertex_center = {(float(x), float(y)): i for i, (x, y) in enumerate(self.cxy.tolist())}
         self.cindex = PointIndex(self.cxy)
-        self.violation_cache.clear()
-        self.n_rescued += len(xy)
 
     def _s_index(self):
         """S's edges (start, end, successor) and their proximity index, built on first use."""
