@@ -216,7 +216,7 @@ def test_writer_crash_leaves_existing_output(square_wkt, tmp_path, monkeypatch, 
     def broken(result, **options):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(io, "svg_document", broken)
+    monkeypatch.setattr(io.svg, "svg_document", broken)
     assert main(["tighten", str(square_wkt), "-r", "1", "-o", str(out)]) == 2
     assert "No space left" in one_error_line(capsys)
     assert out.read_text() == "old" and sorted(p.name for p in tmp_path.iterdir()) == ["keep.svg", "square.wkt"]

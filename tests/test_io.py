@@ -516,8 +516,8 @@ def test_atomic_write_failure_leaves_old_file_and_no_temp(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["out.svg"]
 
 
-@pytest.mark.parametrize("ext, writer", [(".png", "_write_png"), (".dxf", "_write_dxf")])
-def test_writer_failing_halfway(ext, writer, tightening, tmp_path, monkeypatch):
+@pytest.mark.parametrize("ext, module, writer", [(".png", "picture", "write_picture"), (".dxf", "dxf", "write_dxf")])
+def test_writer_failing_halfway(ext, module, writer, tightening, tmp_path, monkeypatch):
     target = tmp_path / f"out{ext}"
     target.write_bytes(b"old")
 
@@ -528,7 +528,7 @@ def test_writer_failing_halfway(ext, writer, tightening, tmp_path, monkeypatch):
             dest.write_bytes(b"partial")
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(io, writer, broken)
+    monkeypatch.setattr(getattr(io, module), writer, broken)
     with pytest.raises(OSError):
         io.write_result(tightening, target)
     assert target.read_bytes() == b"old"
@@ -539,7 +539,7 @@ def test_svg_document_failing_leaves_nothing(tightening, tmp_path, monkeypatch):
     def broken(*a, **k):
         raise MemoryError
 
-    monkeypatch.setattr(io, "svg_document", broken)
+    monkeypatch.setattr(io.svg, "svg_document", broken)
     with pytest.raises(MemoryError):
         io.write_result(tightening, tmp_path / "new.svg")
     assert list(tmp_path.iterdir()) == []

@@ -63,9 +63,12 @@ examples:
   vectortighten demo -o demo-out -r 3
 """
 
-_VECTOR_IN = (".svg", ".wkt", ".geojson", ".json")
-_ALL_IN = _VECTOR_IN + (".png",)
-_VECTOR_OUT = (".svg", ".wkt", ".geojson", ".json", ".dxf", ".png")
+from . import io as _io
+
+# The extensions the command line reads and writes, from the table of formats (`vectortighten.io.FORMATS`).
+_VECTOR_IN = _io.READ_FORMATS
+_ALL_IN = _VECTOR_IN + tuple(e for f in _io.FORMATS.values() if f.kind == "mask" for e in f.extensions)
+_VECTOR_OUT = _io.WRITE_FORMATS
 
 
 class UsageError(Exception):
@@ -277,7 +280,7 @@ def _tighten_file(task: _Task) -> str:
 
     _check_output_format(task.source, task.target)
     if task.source.suffix.lower() == ".png":
-        raster = io._raster("load_mask", "save_mask", "tighten")
+        raster = io.mask._raster("load_mask", "save_mask", "tighten")
         mask = io.read_mask(task.source, threshold=task.threshold)
         result = raster.tighten(mask, task.r, init=task.init)
         io.write_mask(result.mask, task.target)
