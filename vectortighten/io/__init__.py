@@ -1,16 +1,24 @@
 """Reading shapes from files and writing tightenings to them, through one table of formats.
 
-Each family of files has its module — `svg`, `dxf`, `geo` (WKT and GeoJSON), `mask` (images for the
-pixel method), `picture` (a rendering) — and registers what it reads and writes in `FORMATS`, keyed by
-the format's name with the extensions it owns. `read_shape` and `write_result` look the extension up
-there (``format=`` overrides it); the command line reads the same table for ``--format`` and its help.
+Each family of files has its module — `svg`, `dxf`, `geo` (WKT and the geodata formats: GeoPackage,
+Shapefile, GeoJSON, FlatGeobuf, GeoParquet), `mask` (images for the pixel method), `picture` (a
+rendering) — and registers what it reads and writes in `FORMATS`, keyed by the format's name with the
+extensions it owns. `read_shape` and `write_result` look the extension up there (``format=`` overrides
+it); the command line reads the same table for ``--format`` and its help.
+
+A format that holds *features* (a geometry each, with attributes, a layer, a CRS) also has
+``read_features`` and ``write_features``: `read_features` returns a `Features` table and
+`write_features` writes one back with everything but the geometry unchanged. The metadata that must
+travel from reader to writer rides in ``Features.meta``, which other families can fill too (an SVG's
+unit and page).
 
 Every writer goes through `atomic_write` or `atomic_path`: the output is written to a temporary file in
 the same folder and renamed over the target only when complete, so a failed run leaves no partial file
 and an existing output untouched.
 
-Optional packages (svgelements and defusedxml for SVG, ezdxf for DXF) are imported only when a file of
-theirs is met; without them a `MissingDependencyError` names the extra to install.
+Optional packages (svgelements and defusedxml for SVG, ezdxf for DXF, pyogrio, GeoPandas, pyproj and
+pyarrow for geodata) are imported only when a file of theirs is met; without them a
+`MissingDependencyError` names the extra to install.
 """
 
 from __future__ import annotations
@@ -22,7 +30,15 @@ from pathlib import Path
 from shapely.geometry import MultiPolygon, Polygon
 
 from . import dxf, geo, picture, svg
-from ._common import LAYERS, MissingDependencyError, _check_layers, _polygonal, atomic_path, atomic_write
+from ._common import (
+    LAYERS,
+    Features,
+    MissingDependencyError,
+    _check_layers,
+    _polygonal,
+    atomic_path,
+    atomic_write,
+)
 from ._fill import fill_rings
 from .mask import read_mask, write_mask
 from .svg import DEFAULT_FLATTEN, read_svg, svg_document, svg_unit
@@ -30,6 +46,7 @@ from .svg import DEFAULT_FLATTEN, read_svg, svg_document, svg_unit
 __all__ = [
     "DEFAULT_FLATTEN",
     "FORMATS",
+    "Features",
     "LAYERS",
     "READ_FORMATS",
     "WRITE_FORMATS",
@@ -39,11 +56,13 @@ __all__ = [
     "atomic_write",
     "fill_rings",
     "format_of",
+    "read_features",
     "read_mask",
     "read_shape",
     "read_svg",
     "svg_document",
     "svg_unit",
+    "write_features",
     "write_mask",
     "write_result",
 ]
@@ -65,6 +84,13 @@ class Format:
         ``write(result, path, *, layers, unit)``, atomic; None if not writable.
     kind : {"vector", "mask"}
         A vector format holds shapes for the exact engine; a mask format holds images for the pixel method.
+    read_features : callable or None
+        ``read_features(path, *, layer=None) -> Features | None`` for a format that holds features (None
+        back: this file holds one plain geometry, read it with ``read``); None if the format holds shapes.
+    write_features : callable or None
+        ``write_features(features, path)``, atomic, every attribute and ``meta`` entry it knows kept.
+    label : str
+        What messages call it ("GeoPackage"); default the upper-case name.
     """
 
     name: str
@@ -72,6 +98,19 @@ class Format:
     read: Callable | None
     write: Callable | None
     kind: str = "vector"
+    read_features: Callable | None = None
+    write_features: Callable | None = None
+    label: str = ""
+
+    @property
+    def title(self) -> str:
+        """The format's name in messages."""
+        return self.label or self.name.upper()
+
+    @property
+    def holds_features(self) -> bool:
+        """Whether files of this format are layers of features (geodata)."""
+        return self.read_features is not None
 
 
 def _write_text(text_of: Callable) -> Callable:
@@ -98,14 +137,35 @@ def _read_geometry(reader: Callable) -> Callable:
     return read
 
 
+def _geodata(name: str, extensions: tuple[str, ...]) -> Format:
+    """A geodata format: features read and written through pyogrio (GeoParquet through GeoPandas)."""
+
+    def read_features(path, *, layer=None, **_options):
+        if name == "geojson" and geo.geojson_is_plain(path):
+            return None
+        return geo.read_features(path, name, layer=layer)
+
+    def write_features(features, path):
+        geo.write_features(features, path, name)
+
+    def write(result, path, *, layers=(), unit=None):
+        geo.write_features(geo.result_features(result), path, name)
+
+    return Format(name, extensions, _read_geometry(lambda path: geo.read_union(path, name)), write,
+                  read_features=read_features, write_features=write_features, label=geo.GEODATA[name][1])
+
+
 #: Every format, by name. A mask format (PNG) is read by `read_mask`; a vector result is drawn into it.
 FORMATS: dict[str, Format] = {
     "svg": Format("svg", (".svg",), lambda path, flatten=None, **_: read_svg(path, flatten=flatten),
                   _write_text(lambda result, **kw: svg.svg_document(result, **kw))),
     "wkt": Format("wkt", (".wkt",), _read_geometry(geo.read_wkt),
                   _write_text(lambda result, **_: geo.wkt_text(result))),
-    "geojson": Format("geojson", (".geojson", ".json"), _read_geometry(geo.read_geojson),
-                      _write_text(lambda result, **_: geo.geojson_text(result))),
+    "geojson": _geodata("geojson", (".geojson", ".json")),
+    "gpkg": _geodata("gpkg", (".gpkg",)),
+    "shp": _geodata("shp", (".shp",)),
+    "fgb": _geodata("fgb", (".fgb",)),
+    "parquet": _geodata("parquet", (".parquet", ".geoparquet")),
     "dxf": Format("dxf", (".dxf",), None, _write_dxf),
     "png": Format("png", (".png",), None, _write_picture, kind="mask"),
 }
@@ -144,13 +204,15 @@ def format_of(path, format: str | None = None) -> Format:
 
 
 def read_shape(path, *, flatten: float | None = None, format: str | None = None) -> Polygon | MultiPolygon:
-    """Read a polygonal shape from a vector file (SVG, WKT, GeoJSON).
+    """Read a polygonal shape from a vector file (SVG, WKT, or the geodata formats).
 
     Parameters
     ----------
     path : str or Path
-        ``.svg``, ``.wkt``, ``.geojson`` or ``.json``. GeoJSON may be a bare geometry, a Feature or a
-        FeatureCollection; all polygons are united.
+        ``.svg``, ``.wkt``, ``.geojson`` or ``.json`` (a bare geometry, a Feature or a FeatureCollection),
+        ``.gpkg``, ``.shp``, ``.fgb``, ``.parquet``. The features of a geodata file are repaired one by one
+        and then united into one shape: to tighten them one by one, use `read_features` and
+        `vectortighten.tighten_all` (the command line does).
     flatten : float, optional
         SVG only: largest distance between a curve and its chords, in the drawing's user units. Default
         `DEFAULT_FLATTEN` times the diagonal of the drawing.
@@ -204,8 +266,9 @@ def write_result(result, path, *, layers=(), unit: str | None = None, format: st
     ----------
     result : Tightening
     path : str or Path
-        ``.svg`` (exact arcs, see `svg_document`), ``.wkt`` and ``.geojson`` / ``.json`` (the sampled
-        geometry, within the result's tolerance), ``.dxf`` (LINE and ARC entities on layer
+        ``.svg`` (exact arcs, see `svg_document`), ``.wkt`` and the geodata formats ``.geojson`` /
+        ``.json``, ``.gpkg``, ``.shp``, ``.fgb``, ``.parquet`` (the sampled geometry, within the result's
+        tolerance, as one feature whose attributes are r, init, perimeter, area and the counts), ``.dxf`` (LINE and ARC entities on layer
         ``TIGHTENING``; each ARC has radius exactly r and runs counter-clockwise, as DXF requires) or
         ``.png`` (a picture).
     layers : iterable of {"input", "core", "mortar"}
@@ -236,3 +299,77 @@ def write_result(result, path, *, layers=(), unit: str | None = None, format: st
     layers = _check_layers(layers)
     svg._check_unit(unit)
     fmt.write(result, path, layers=layers, unit=unit)
+
+
+def read_features(path, *, layer: str | None = None, format: str | None = None) -> Features:
+    """Read the features of one layer of a geodata file (GeoPackage, Shapefile, GeoJSON, FlatGeobuf, GeoParquet).
+
+    Parameters
+    ----------
+    path : str or Path
+    layer : str, optional
+        The layer, when the file has several.
+    format : str, optional
+        The format's name (see `FORMATS`), when the extension does not tell.
+
+    Returns
+    -------
+    Features
+        Geometries (invalid polygons repaired one by one, with a counted `RepairWarning`), attributes,
+        and ``meta`` with ``crs``, ``layer`` and ``geometry_name``. A bare-geometry GeoJSON gives one
+        feature with no attributes and no CRS.
+
+    Raises
+    ------
+    ValueError
+        Not a geodata format; several layers and no ``layer``; no such layer.
+    InvalidGeometryError
+        The file is corrupt or has no geometry column.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d) / "s.geojson"
+    ...     _ = p.write_text('{"type": "Polygon", "coordinates": [[[0, 0], [4, 0], [4, 4], [0, 4], [0, 0]]]}')
+    ...     f = read_features(p)
+    >>> len(f), f.meta["crs"], f.geometry[0].area
+    (1, None, 16.0)
+    """
+    path = Path(path)
+    fmt = format_of(path, format)
+    if not fmt.holds_features:
+        raise ValueError(f"{path}: a {fmt.title} file holds one shape, not features; read it with read_shape")
+    features = fmt.read_features(path, layer=layer)
+    if features is None:
+        import numpy as np
+
+        features = Features(np.array([fmt.read(path)], dtype=object), None, {"crs": None, "layer": path.stem})
+    return features
+
+
+def write_features(features: Features, path, *, format: str | None = None) -> None:
+    """Write `Features` to a geodata file, atomically, with their attributes and CRS unchanged.
+
+    Raises
+    ------
+    ValueError
+        Not a geodata format, or GDAL refuses the features (nothing is written then).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, numpy as np
+    >>> from shapely.geometry import box
+    >>> f = Features(np.array([box(0, 0, 2, 2)], dtype=object), meta={"crs": "EPSG:32631", "layer": "x"})
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     write_features(f, pathlib.Path(d) / "x.gpkg")
+    ...     back = read_features(pathlib.Path(d) / "x.gpkg")
+    >>> back.meta["crs"].to_epsg(), back.geometry[0].area
+    (32631, 4.0)
+    """
+    path = Path(path)
+    fmt = format_of(path, format)
+    if fmt.write_features is None:
+        raise ValueError(f"{path}: {fmt.title} does not hold features; write features to one of "
+                         f"{', '.join(e for f in FORMATS.values() if f.write_features for e in f.extensions)}")
+    fmt.write_features(features, path)
