@@ -17,7 +17,7 @@ import os
 import sys
 import warnings
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 __all__ = ["COMMANDS", "main"]
@@ -28,6 +28,7 @@ examples:
   vectortighten tighten shape.svg -r 2 -o tight.svg
   vectortighten tighten shape.wkt -r 2 -o tight.dxf --init input
   vectortighten tighten drawings/ -r 0.5 -o out/ --format svg --jobs 4
+  vectortighten tighten parcels.gpkg --layer parcels -r 2 -o tight.gpkg
   vectortighten compare shape.svg -r 2 --plot check.png
   vectortighten figures -o figs
   python -m vectortighten tighten --help
@@ -36,12 +37,25 @@ examples:
 _EPILOG_TIGHTEN = """\
 formats (by extension):
   in:  .svg (paths, curves, arcs, basic shapes, transforms, fill-rule nonzero/evenodd),
-       .wkt, .geojson/.json (geometry, Feature, FeatureCollection), .png (a mask: the pixel method)
-  out: .svg (exact arcs as A commands), .wkt, .geojson/.json, .dxf (LINE and ARC entities),
-       .png (a picture; for a PNG input, the tightened mask)
+       .wkt, .geojson/.json (a bare geometry), .png (a mask: the pixel method);
+       geodata layers: .gpkg, .shp, .geojson/.json (Feature, FeatureCollection), .fgb,
+       .parquet (GeoParquet)
+  out: .svg (exact arcs as A commands), .wkt, .dxf (LINE and ARC entities),
+       .png (a picture; for a PNG input, the tightened mask), and the geodata formats
+       .gpkg, .shp, .geojson/.json, .fgb, .parquet
 
 SVG coordinates are the drawing's user units (R is in them too); an SVG whose root says
 width="210mm" viewBox="0 0 210 297" is in mm, and SVG and DXF outputs say so again.
+
+geodata: every feature of the layer is tightened on its own and written as one output
+feature, in order, with all its attributes and the CRS unchanged (a feature whose
+tightening is empty keeps its row, with an empty geometry; points and lines pass through
+unchanged). Features are never united, so neighbouring features are tightened
+independently: a border they share may open into a gap or close into an overlap.
+R is a length in the layer's CRS units (metres for UTM, feet for a US state plane in feet).
+A layer in degrees (EPSG:4326, or a GeoJSON without a "crs" member) is refused: pass
+--to-crs with a projected CRS to reproject it, tighten there and write it there. A layer
+with no CRS needs --crs. Needs the geo extra: pip install "vectortighten[geo]".
 
 several inputs, or a folder, write one output per input into the folder OUT, named after
 the input with the extension of --format (default: the input's own). A file that fails is
@@ -55,6 +69,10 @@ examples:
   vectortighten tighten a.svg b.wkt c.geojson -r 1 -o out/ --format svg
   vectortighten tighten drawings/ -r 1 -o out/ --jobs 4 --progress
   vectortighten tighten mask.png -r 8 -o tight.png
+  vectortighten tighten buildings.shp -r 1.5 -o tight.gpkg
+  vectortighten tighten countries.geojson -r 20000 --to-crs EPSG:8857 -o tight.gpkg
+  vectortighten tighten parcels.parquet -r 2 -o tight.parquet --jobs 2
+  vectortighten tighten parcels.parquet -r 2 -o tight.parquet --dask local:4
 """
 
 _EPILOG_DEMO = """\
@@ -137,6 +155,19 @@ def _format(text: str) -> str:
     return ext
 
 
+def _input_format(text: str) -> str:
+    ext = "." + text.lower().lstrip(".")
+    if ext not in _VECTOR_IN:
+        raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(e[1:] for e in _VECTOR_IN)}")
+    return ext
+
+
+def _geo_options(**options):
+    from ._geofile import GeoOptions
+
+    return GeoOptions(**options)
+
+
 # ---------------------------------------------------------------------------------------------------------
 # demo
 # ---------------------------------------------------------------------------------------------------------
@@ -179,9 +210,11 @@ def _add_tighten(sub) -> None:
         epilog=_EPILOG_TIGHTEN, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     tight.add_argument("inputs", type=Path, nargs="+", metavar="IN",
-                       help="input file(s) or a folder of them (.svg, .wkt, .geojson, .json, .png)")
+                       help="input file(s) or a folder of them (.svg, .wkt, .geojson, .json, .gpkg, .shp, "
+                            ".fgb, .parquet, .png)")
     tight.add_argument("-r", "--radius", type=_positive_float, required=True, metavar="R",
-                       help="the tightening radius, in the input's units (pixels for a PNG)")
+                       help="the tightening radius, in the input's units (pixels for a PNG; the CRS's "
+                            "units for geodata, after --to-crs if given)")
     tight.add_argument("-o", "--output", type=Path, required=True, metavar="OUT",
                        help="output file; a folder for several inputs (created if its parent exists)")
     tight.add_argument("--init", choices=("core", "input", "mason"), default="core",
@@ -193,17 +226,39 @@ def _add_tighten(sub) -> None:
                        help="SVG input: largest distance between a curve and its chords "
                             "(default 1e-4 of the drawing's diagonal)")
     tight.add_argument("--format", type=_format, default=None, metavar="EXT",
-                       help="output format for a folder OUT: svg, wkt, geojson, json, dxf or png "
-                            "(default: the input's)")
+                       help="output format for a folder OUT, or for an OUT whose extension does not tell: "
+                            f"{', '.join(e[1:] for e in _VECTOR_OUT)} (default: the input's)")
+    tight.add_argument("--input-format", type=_input_format, default=None, metavar="EXT",
+                       help="the input's format when its extension does not tell")
+    geo = tight.add_argument_group("geodata (GeoPackage, Shapefile, GeoJSON, FlatGeobuf, GeoParquet)")
+    geo.add_argument("--layer", default=None, metavar="NAME",
+                     help="the layer to tighten, when the file has several (a GeoPackage may)")
+    geo.add_argument("--to-crs", default=None, metavar="CRS",
+                     help="reproject the features to this projected CRS (EPSG:32631, a WKT, a PROJ string) "
+                          "before tightening; R is then in its units, and the output is written in it")
+    geo.add_argument("--crs", default=None, metavar="CRS",
+                     help="the CRS of the input's coordinates, when the file has none (or a wrong one)")
+    geo.add_argument("--dask", default=None, metavar="SCHEDULER",
+                     help="tighten the features on a dask cluster: a scheduler address "
+                          "(tcp://host:8786), or local / local:N to start N local workers "
+                          "(needs the dask extra)")
+    geo.add_argument("--skip-failed", action="store_true",
+                     help="a feature the engine fails on gets an empty geometry and is counted, "
+                          "instead of stopping the run")
     tight.add_argument("--layers", type=_layers, default=(), metavar="L,L",
                        help="SVG, DXF and PNG output: also draw input, core and/or mortar, e.g. "
                             "--layers input,core,mortar")
     tight.add_argument("--threshold", type=_unit_float, default=0.5, metavar="V",
                        help="PNG input: pixels brighter than V (0..1) belong to the shape (default 0.5)")
     tight.add_argument("-j", "--jobs", type=_positive_int, default=None, metavar="N",
-                       help="processes for several inputs (default: all cores)")
-    tight.add_argument("--progress", action="store_true",
-                       help="show a progress bar on stderr (shown anyway when stderr is a terminal)")
+                       help="processes for several inputs (default: all cores); for one geodata input, "
+                            "processes over its features (default: one)")
+    shown = tight.add_mutually_exclusive_group()
+    shown.add_argument("--progress", action="store_true",
+                       help="show a progress bar on stderr (shown anyway when stderr is a terminal): over "
+                            "files for several inputs, over features for one geodata input")
+    shown.add_argument("-q", "--quiet", action="store_true",
+                       help="no progress bar and no summary line (warnings and errors still go to stderr)")
 
 
 @dataclass(frozen=True)
@@ -218,6 +273,9 @@ class _Task:
     flatten: float | None
     layers: tuple[str, ...]
     threshold: float
+    geo: GeoOptions = field(default_factory=lambda: _geo_options())
+    progress: bool = False
+    quiet: bool = False
 
 
 @dataclass
@@ -277,22 +335,38 @@ def _run_task(task: _Task) -> _Outcome:
 
 def _tighten_file(task: _Task) -> str:
     from . import io
+    from ._geofile import holds_features, tighten_features_file
 
-    _check_output_format(task.source, task.target)
+    _check_output_format(task.source, task.target, task.geo.output_format)
+    if task.source.suffix.lower() != ".png" and holds_features(task.source, task.geo.input_format):
+        return tighten_features_file(task.source, task.target, r=task.r, init=task.init,
+                                     tolerance=task.tolerance,
+                                     options=replace(task.geo, progress=task.progress))
+    geo_only = [name for name, value in (("--layer", task.geo.layer), ("--crs", task.geo.crs),
+                                         ("--to-crs", task.geo.to_crs), ("--dask", task.geo.dask)) if value]
+    if geo_only:
+        raise UsageError(f"{task.source}: {', '.join(geo_only)} apply to geodata layers (GeoPackage, "
+                         "Shapefile, GeoJSON features, FlatGeobuf, GeoParquet) only")
     if task.source.suffix.lower() == ".png":
         raster = io.mask._raster("load_mask", "save_mask", "tighten")
         mask = io.read_mask(task.source, threshold=task.threshold)
         result = raster.tighten(mask, task.r, init=task.init)
         io.write_mask(result.mask, task.target)
         return f"{task.target}: {int(result.mask.sum())} pixel(s) set of {result.mask.size}"
+    import shapely
+
+    from ._progress import FeatureBar
     from .engine import tighten
 
-    shape = io.read_shape(task.source, flatten=task.flatten)
+    shape = io.read_shape(task.source, flatten=task.flatten, format=task.geo.input_format)
     unit = io.svg_unit(task.source) if task.source.suffix.lower() == ".svg" else None
-    result = tighten(shape, task.r, init=task.init, tolerance=task.tolerance)
+    with FeatureBar(1, enabled=task.progress, unit="shape") as bar:     # a large shape shows it is working
+        bar.start(task.source.name, shapely.get_num_coordinates(shape))
+        result = tighten(shape, task.r, init=task.init, tolerance=task.tolerance)
+        bar.advance()
     if result.is_empty:
         warnings.warn(f"the tightening is empty: every part is thinner than 2r = {2 * task.r:g}", UserWarning)
-    io.write_result(result, task.target, layers=task.layers, unit=unit)
+    io.write_result(result, task.target, layers=task.layers, unit=unit, format=task.geo.output_format)
     return (f"{task.target}: perimeter {result.perimeter:.6g}, area {result.area:.6g}, "
             f"{result.n_components} component(s), {result.n_holes} hole(s)")
 
@@ -314,13 +388,13 @@ def _expand_inputs(inputs: list[Path]) -> tuple[list[Path], bool]:
     return files, batch
 
 
-def _check_output_format(source: Path, target: Path) -> None:
+def _check_output_format(source: Path, target: Path, override: str | None = None) -> None:
     ext = target.suffix.lower()
     if source.suffix.lower() == ".png":
         if ext != ".png":
             raise UsageError(f"{source}: a PNG mask is tightened by the pixel method and written as .png, "
                              f"not {ext or '(no extension)'}")
-    elif ext not in _VECTOR_OUT:
+    elif override is None and ext not in _VECTOR_OUT:
         raise UsageError(f"{target}: unsupported output format {ext or '(none)'!r}; "
                          f"expected one of {', '.join(_VECTOR_OUT)}")
 
@@ -331,8 +405,16 @@ def _plan(args) -> tuple[list[_Task], bool]:
     out: Path = args.output
     if not batch and out.is_dir():
         batch = True
+    if batch and args.dask:
+        raise UsageError("--dask takes one input file")
+    single_geo = len(files) == 1 and not batch
+    geo = _geo_options(layer=args.layer, crs=args.crs, to_crs=args.to_crs, input_format=args.input_format,
+                       output_format=args.format if not batch else None,
+                       processes=args.jobs if single_geo else None, dask=args.dask,
+                       skip_failed=args.skip_failed)
     opts = dict(r=args.radius, init=args.init, tolerance=args.tolerance, flatten=args.flatten,
-                layers=args.layers, threshold=args.threshold)
+                layers=args.layers, threshold=args.threshold, geo=geo, quiet=args.quiet,
+                progress=not batch and not args.quiet and (args.progress or sys.stderr.isatty()))
     if batch:
         if out.exists() and not out.is_dir():
             raise UsageError(f"{str(out)!r} exists and is not a folder")
@@ -341,7 +423,8 @@ def _plan(args) -> tuple[list[_Task], bool]:
             ext = args.format or (f.suffix.lower() if f.suffix.lower() in _VECTOR_OUT + (".png",) else ".svg")
             targets.append(out / (f.stem + ext))
     else:
-        if args.format and out.suffix.lower() != args.format:
+        known = out.suffix.lower() in _VECTOR_OUT + (".png",)
+        if args.format and known and out.suffix.lower() != args.format:
             raise UsageError(f"--format {args.format[1:]} disagrees with the output {str(out)!r}")
         targets = [out]
     resolved_in = {}
@@ -418,7 +501,7 @@ def _report(outcome: _Outcome, progress: _Progress) -> None:
         progress.line(f"vectortighten: warning: {w}")
     if outcome.error is not None:
         progress.line(f"vectortighten: error: {outcome.error}")
-    else:
+    elif not outcome.task.quiet:
         progress.line(outcome.summary, stream=sys.stdout)
 
 
@@ -431,10 +514,11 @@ def _cmd_tighten(args) -> int:
         if outcome.error is not None:
             print(f"vectortighten: error: {outcome.error}", file=sys.stderr)
             return 1 if outcome.internal else 2
-        print(outcome.summary)
+        if not args.quiet:
+            print(outcome.summary)
         return 0
     jobs = min(args.jobs or os.cpu_count() or 1, len(tasks))
-    progress = _Progress(len(tasks), enabled=args.progress or sys.stderr.isatty())
+    progress = _Progress(len(tasks), enabled=not args.quiet and (args.progress or sys.stderr.isatty()))
     outcomes: list[_Outcome] = []
     try:
         if jobs == 1:
