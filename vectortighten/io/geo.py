@@ -245,7 +245,7 @@ def read_features(path, name: str, *, layer: str | None = None, repair: bool = T
             layers = pyogrio.list_layers(path)
             names = [str(x) for x in layers[:, 0]]
             if not names:
-                raise InvalidGeometryError(f"{path}: the {label} has no layer")
+                raise InvalidGeometryError(f"{path}: malformed {label} (no layer found)")
             if layer is None:
                 if len(names) > 1:
                     raise ValueError(f"{path} has {len(names)} layers ({', '.join(names)}); choose one "
@@ -264,8 +264,14 @@ def read_features(path, name: str, *, layer: str | None = None, repair: bool = T
         if type(exc).__module__.startswith(("pyogrio", "pyarrow")):
             raise InvalidGeometryError(f"{path}: malformed {label} ({_first_line(exc)})") from None
         raise
+    except pyogrio.errors.CRSError as exc:
+        from vectortighten.errors import CRSError
+
+        hint = "fix or remove its .prj" if name == "shp" else "fix it"
+        raise CRSError(f"{path}: its CRS cannot be read ({_first_line(exc)}); {hint}, then give the CRS "
+                       "with --crs") from None
     except (pyogrio.errors.DataSourceError, pyogrio.errors.DataLayerError, pyogrio.errors.FieldError,
-            pyogrio.errors.GeometryError, pyogrio.errors.CRSError, OSError, RuntimeError) as exc:
+            pyogrio.errors.GeometryError, OSError, RuntimeError) as exc:
         if isinstance(exc, FileNotFoundError):
             raise
         raise InvalidGeometryError(f"{path}: malformed {label} ({_first_line(exc)})") from None
@@ -338,8 +344,10 @@ def write_features(features: Features, path, name: str) -> None:
     options = {}
     if name == "gpkg" and features.meta.get("geometry_name"):
         options["GEOMETRY_NAME"] = features.meta["geometry_name"]
-    if name == "fgb" and (frame.geometry.isna() | frame.geometry.is_empty).any():
-        options["SPATIAL_INDEX"] = "NO"       # FlatGeobuf's index takes no empty geometry
+    if name == "fgb":
+        # FlatGeobuf's spatial index sorts the features along a Hilbert curve (and takes no empty
+        # geometry): without it, the output keeps the input's order, one feature for one.
+        options["SPATIAL_INDEX"] = "NO"
     try:
         with warnings.catch_warnings():
             # A plain shape (WKT, SVG, bare GeoJSON) has no CRS, and its output says none on purpose.
