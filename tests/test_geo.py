@@ -9,6 +9,7 @@ import hashlib
 import json
 import re
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -453,3 +454,35 @@ def test_jobs_over_features_same_result(tmp_path):
     assert main(["tighten", str(src), "-r", "1", "-o", str(tmp_path / "two.gpkg"), "-q", "-j", "2"]) == 0
     a, b = read(tmp_path / "one.gpkg"), read(tmp_path / "two.gpkg")
     assert all(x.equals_exact(y, 0) for x, y in zip(a.geometry, b.geometry))
+
+
+def test_dask_option_runs_the_file_on_a_cluster(tmp_path, capsys):
+    """--dask ADDRESS sends the features to a running scheduler; the output is the serial one."""
+    distributed = pytest.importorskip("distributed")
+    pytest.importorskip("dask_geopandas")
+    src = write(parcels(), tmp_path / "p.gpkg")
+    assert main(["tighten", str(src), "-r", "1", "-o", str(tmp_path / "serial.gpkg"), "-q"]) == 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")      # distributed's notes on ports and its own deprecations
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                                      dashboard_address=None) as cluster:
+            code = main(["tighten", str(src), "-r", "1", "-o", str(tmp_path / "dask.gpkg"), "--dask",
+                         cluster.scheduler_address, "--progress"])
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    assert "1 of 6 feature(s) have an empty tightening" in captured.err and "6/6" in captured.err
+    a, b = read(tmp_path / "serial.gpkg"), read(tmp_path / "dask.gpkg")
+    pd.testing.assert_frame_equal(a.drop(columns="geometry"), b.drop(columns="geometry"))
+    assert all(x.equals_exact(y, 0) for x, y in zip(a.geometry, b.geometry))
+    assert b.crs == a.crs
+
+
+def test_dask_unreachable_scheduler(tmp_path, capsys):
+    pytest.importorskip("distributed")
+    import dask
+
+    src = write(parcels(), tmp_path / "p.gpkg")
+    out = tmp_path / "o.gpkg"
+    with dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
+        assert main(["tighten", str(src), "-r", "1", "-o", str(out), "--dask", "tcp://127.0.0.1:9"]) == 2
+    assert "cannot reach the scheduler" in one_error_line(capsys) and not out.exists()

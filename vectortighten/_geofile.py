@@ -215,7 +215,7 @@ def _client(scheduler: str, processes: int | None):
                                            dashboard_address=None)
         return distributed.Client(cluster), cluster
     try:
-        return distributed.Client(scheduler, timeout="10s"), None
+        return distributed.Client(scheduler), None       # dask's connect timeout applies
     except (OSError, TimeoutError, ValueError) as exc:
         raise OSError(f"--dask {scheduler}: cannot reach the scheduler ({exc})") from None
 

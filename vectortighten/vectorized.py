@@ -249,7 +249,10 @@ def _as_batch(geometries) -> _Batch | None:
         plain = index.equals(__import__("pandas").RangeIndex(len(index)))
 
         def label(i: int) -> str:
-            return f"feature {i}" if plain else f"feature {i} (index {index[i]!r})"
+            if plain:
+                return f"feature {i}"
+            key = index[i]
+            return f"feature {i} (index {(key.item() if isinstance(key, np.generic) else key)!r})"
 
         def wrap(out: np.ndarray):
             s = gpd.GeoSeries(out, index=index, crs=series.crs, name=series.name)
@@ -301,8 +304,10 @@ def _chunks(order: np.ndarray, weight: np.ndarray, n_chunks: int) -> list[np.nda
         return []
     cum = np.cumsum(weight[order], dtype=float)
     target = cum[-1] / max(1, n_chunks)
-    cut = np.searchsorted(cum, target * np.arange(1, n_chunks), side="right")
-    return [c for c in np.split(order, np.unique(cut)) if len(c)]
+    # Each run ends with the feature that brings its total to the next multiple of the target.
+    cut = np.searchsorted(cum, target * np.arange(1, n_chunks), side="left") + 1
+    cut = np.unique(cut[cut < len(order)])
+    return [c for c in np.split(order, cut) if len(c)]
 
 
 def _map(op: str, geometries, r, *, init="core", tolerance=None, processes=None, errors="raise",
