@@ -175,7 +175,8 @@ def main(argv=None) -> int:
         "# tighten_all on building footprints vs shapely's vectorised opening + closing",
         "",
         f"Machine: {platform.machine()}, {os.cpu_count()} cores (shared with other work while this ran), "
-        f"Python {platform.python_version()}, shapely {shapely.__version__} (GEOS {shapely.geos_version_string}). "
+        f"Python {platform.python_version()}, shapely {shapely.__version__} "
+        f"(GEOS {shapely.geos_version_string}). "
         f"CPU seconds (wall-clock for processes=2); baseline medians of {args.repeats}, engine runs "
         f"{args.engine_repeats}; 1-minute load average {min(load):.1f}–{max(load):.1f} during the runs. "
         f"Command: `python benchmarks/bench_geo.py --n {n} --repeats {args.repeats} "
@@ -186,7 +187,7 @@ def main(argv=None) -> int:
         f"(quad_segs {q} for the baseline). {empty} footprints vanish (no 2r-wide part). Engine path on the "
         f"first {m}: {paths['fast']} fast, {paths['general']} general.",
         "",
-        "| run | time (s) | features/s | ratio to opening + closing (quad_segs %d) |" % q,
+        f"| run | time (s) | features/s | ratio to opening + closing (quad_segs {q}) |",
         "|---|---:|---:|---:|",
         f"| shapely opening + closing, quad_segs {q} (baseline) | {b:.2f} cpu | {n / b:,.0f} | 1 |",
         f"| shapely opening + closing, quad_segs 8 (default) | {bd:.2f} cpu | {n / bd:,.0f} | {bd / b:.2f} |",
@@ -196,7 +197,8 @@ def main(argv=None) -> int:
         "",
         f"Wrapper overhead, first {m} footprints: loop of `vt.tighten(g, r).geometry` {t_loop:.2f} s, "
         f"`tighten_all` {t_all:.2f} s ({100 * (t_all / t_loop - 1):+.1f} %). Parallel speed-up with two "
-        f"processes: {s / p:.2f}× (serial cpu / parallel wall; the workers' cpu over the serial: {pc / s:.2f}). Identical geometries serially and in parallel: yes (checked).",
+        f"processes: {s / p:.2f}× (serial cpu / parallel wall; the workers' cpu over the serial: "
+        f"{pc / s:.2f}). Identical geometries serially and in parallel: yes (checked).",
         "",
     ]
     if args.profile:

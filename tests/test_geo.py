@@ -79,7 +79,8 @@ def same_geometry(a, b, tol=1e-9) -> bool:
 
 
 def naturalearth() -> Path:
-    path = Path(pyogrio.__file__).parent / "tests" / "fixtures" / "naturalearth_lowres" / "naturalearth_lowres.shp"
+    folder = Path(pyogrio.__file__).parent / "tests" / "fixtures" / "naturalearth_lowres"
+    path = folder / "naturalearth_lowres.shp"
     if not path.exists():
         pytest.skip("pyogrio's naturalearth_lowres fixture is not installed")
     return path
@@ -103,7 +104,7 @@ def test_round_trip_keeps_rows_attributes_crs(ext, tmp_path, capsys):
     assert res.crs == inp.crs and res.crs.to_epsg() == 32631
     pd.testing.assert_frame_equal(res.drop(columns=res.geometry.name).reset_index(drop=True),
                                   inp.drop(columns=inp.geometry.name).reset_index(drop=True))
-    for k, (g_in, g_out) in enumerate(zip(inp.geometry, res.geometry)):
+    for k, (g_in, g_out) in enumerate(zip(inp.geometry, res.geometry, strict=True)):
         expected = vt.tighten(g_in, R).geometry
         assert same_geometry(g_out, expected), (k, g_out, expected)
     strip = res.geometry[res["parcel_id"] == 103].iloc[0]
@@ -130,7 +131,7 @@ def test_between_formats(src_ext, out_ext, tmp_path, capsys):
     inp, res = read(src), read(out)       # (a FlatGeobuf written with its index is in Hilbert order)
     assert res.crs.to_epsg() == 32631 and res["parcel_id"].tolist() == inp["parcel_id"].tolist()
     assert res["owner"].tolist() == inp["owner"].tolist()
-    for g_in, g_out in zip(inp.geometry, res.geometry):
+    for g_in, g_out in zip(inp.geometry, res.geometry, strict=True):
         assert same_geometry(g_out, vt.tighten(g_in, 1.0).geometry)
 
 
@@ -185,7 +186,7 @@ def test_to_crs_reprojects_tightens_and_writes_there(tmp_path, capsys):
     pd.testing.assert_frame_equal(res.drop(columns="geometry"),
                                   subset.drop(columns="geometry").reset_index(drop=True))
     projected = subset.to_crs(8857)
-    for g_in, g_out in zip(projected.geometry, res.geometry):
+    for g_in, g_out in zip(projected.geometry, res.geometry, strict=True):
         with pytest.warns(vt.RepairWarning) if not g_in.is_valid else _no_warning():
             expected = vt.tighten(g_in, 10000).geometry
         assert same_geometry(g_out, expected, tol=1e-6)
@@ -211,7 +212,7 @@ def test_naturalearth_read_repairs_each_feature_alone():
     with pytest.warns(vt.RepairWarning, match=r"2 of 177 feature\(s\) were invalid"):
         fixed, n = _repair_each(projected)
     assert n == 2 and shapely.is_valid(fixed).all()
-    changed = np.flatnonzero([a is not b for a, b in zip(projected, fixed)])
+    changed = np.flatnonzero([a is not b for a, b in zip(projected, fixed, strict=True)])
     assert len(changed) == 2
     for i in changed:       # each one is make_valid of itself alone
         assert fixed[i].equals(shapely.make_valid(projected[i]))
@@ -219,7 +220,8 @@ def test_naturalearth_read_repairs_each_feature_alone():
 
 def test_geojson_without_crs_is_wgs84_and_says_so(tmp_path, capsys):
     fc = {"type": "FeatureCollection", "features": [
-        {"type": "Feature", "properties": {"id": 1}, "geometry": shapely.geometry.mapping(box(2, 40, 5, 43))}]}
+        {"type": "Feature", "properties": {"id": 1},
+         "geometry": shapely.geometry.mapping(box(2, 40, 5, 43))}]}
     src = tmp_path / "mm.geojson"
     src.write_text(json.dumps(fc))
     out = tmp_path / "out.geojson"
@@ -276,7 +278,7 @@ def test_invalid_features_repaired_one_by_one(tmp_path, capsys):
     assert "2 of 3 feature(s) were invalid" in captured.err and "Self-intersection" in captured.err
     res = read(out)
     assert res["id"].tolist() == [1, 2, 3]
-    for g_in, g_out in zip(frame.geometry, res.geometry):
+    for g_in, g_out in zip(frame.geometry, res.geometry, strict=True):
         expected = vt.tighten(shapely.make_valid(g_in), 1.0).geometry
         assert same_geometry(g_out, expected)
 
@@ -300,7 +302,8 @@ def test_mixed_types_pass_through(tmp_path, capsys):
 
 
 def test_no_polygon_layer_refused(tmp_path, capsys):
-    frame = gpd.GeoDataFrame({"id": [1, 2]}, geometry=[LineString([(0, 0), (5, 5)]), LineString([(1, 0), (2, 2)])],
+    frame = gpd.GeoDataFrame({"id": [1, 2]},
+                             geometry=[LineString([(0, 0), (5, 5)]), LineString([(1, 0), (2, 2)])],
                              crs=32631)
     src = write(frame, tmp_path / "roads.gpkg")
     out = tmp_path / "out.gpkg"
@@ -453,7 +456,7 @@ def test_jobs_over_features_same_result(tmp_path):
     assert main(["tighten", str(src), "-r", "1", "-o", str(tmp_path / "one.gpkg"), "-q"]) == 0
     assert main(["tighten", str(src), "-r", "1", "-o", str(tmp_path / "two.gpkg"), "-q", "-j", "2"]) == 0
     a, b = read(tmp_path / "one.gpkg"), read(tmp_path / "two.gpkg")
-    assert all(x.equals_exact(y, 0) for x, y in zip(a.geometry, b.geometry))
+    assert all(x.equals_exact(y, 0) for x, y in zip(a.geometry, b.geometry, strict=True))
 
 
 def test_dask_option_runs_the_file_on_a_cluster(tmp_path, capsys):
@@ -473,7 +476,7 @@ def test_dask_option_runs_the_file_on_a_cluster(tmp_path, capsys):
     assert "1 of 6 feature(s) have an empty tightening" in captured.err and "6/6" in captured.err
     a, b = read(tmp_path / "serial.gpkg"), read(tmp_path / "dask.gpkg")
     pd.testing.assert_frame_equal(a.drop(columns="geometry"), b.drop(columns="geometry"))
-    assert all(x.equals_exact(y, 0) for x, y in zip(a.geometry, b.geometry))
+    assert all(x.equals_exact(y, 0) for x, y in zip(a.geometry, b.geometry, strict=True))
     assert b.crs == a.crs
 
 

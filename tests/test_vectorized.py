@@ -82,7 +82,8 @@ def test_empty_results_kept_and_counted():
 
 def test_non_polygonal_passed_through_and_counted():
     pt, line = Point(1, 1), LineString([(0, 0), (3, 3)])
-    with pytest.warns(vt.PassThroughWarning, match=r"2 of 3 geometries are not polygonal \(LineString, Point"):
+    with pytest.warns(vt.PassThroughWarning,
+                      match=r"2 of 3 geometries are not polygonal \(LineString, Point"):
         out = vt.tighten_all([pt, SHAPES[0], line], 1.0)
     assert out[0] is pt and out[2] is line
     assert wkb([out[1]]) == wkb(expected([SHAPES[0]]))
@@ -90,7 +91,8 @@ def test_non_polygonal_passed_through_and_counted():
 
 def test_invalid_features_repaired_each_alone():
     bowtie = Polygon([(0, 0), (10, 10), (10, 0), (0, 10)])
-    with pytest.warns(vt.RepairWarning, match=r"1 of 2 feature\(s\) were invalid \(feature 1: Self-intersection"):
+    with pytest.warns(vt.RepairWarning,
+                      match=r"1 of 2 feature\(s\) were invalid \(feature 1: Self-intersection"):
         out = vt.tighten_all([SHAPES[0], bowtie], 1.0)
     assert wkb([out[1]]) == wkb(expected([shapely.make_valid(bowtie)]))
 
@@ -134,7 +136,7 @@ def test_engine_warnings_gathered(monkeypatch):
     fn, what, warn = vectorized._OPS["tighten"]
 
     def unsettled(S, r, init, tolerance):
-        warnings.warn("the exact finish did not settle on every loop", vt.ConvergenceWarning)
+        warnings.warn("the exact finish did not settle on every loop", vt.ConvergenceWarning, stacklevel=2)
         return fn(S, r, init, tolerance)
 
     monkeypatch.setitem(vectorized._OPS, "tighten", (unsettled, what, warn))

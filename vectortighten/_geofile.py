@@ -108,8 +108,8 @@ def _check_crs(features, source: Path, options: GeoOptions, r: float):
     if options.to_crs is not None:
         target = _parse_crs(options.to_crs, "--to-crs")
         if target.is_geographic or target.is_geocentric or not (target.is_projected or target.is_engineering):
-            raise CRSError(f"--to-crs {options.to_crs}: {_crs_label(target)} is not a projected CRS (its unit "
-                           f"is {crs_unit(target)}); name one in metres or feet, "
+            raise CRSError(f"--to-crs {options.to_crs}: {_crs_label(target)} is not a projected CRS "
+                           f"(its unit is {crs_unit(target)}); name one in metres or feet, "
                            f"{_suggestion(features.geometry, crs).removeprefix('e.g. ')}")
         return source_crs, target
     if crs.is_geographic or crs.is_geocentric:
@@ -119,6 +119,12 @@ def _check_crs(features, source: Path, options: GeoOptions, r: float):
                        f"and r = {r:g} would be read in {crs_unit(crs)}s; reproject to a projected CRS, "
                        f"{_suggestion(features.geometry, crs)}")
     return source_crs, crs
+
+
+def _n_emptied(geoms, out) -> int:
+    """How many polygonal features came out empty."""
+    return sum(1 for g, h in zip(geoms, out, strict=True)
+               if g is not None and not g.is_empty and _is_polygonal(g) and h.is_empty)
 
 
 def _kinds(geoms) -> tuple[int, dict[str, int]]:
@@ -190,8 +196,7 @@ def tighten_features_file(source: Path, target: Path, *, r: float, init: str, to
         out = tighten_all(geoms, r, init=init, tolerance=tolerance, processes=options.processes,
                           errors=errors, progress=options.progress)
     fmt_out.write_features(features.with_geometry(out, crs=crs, format=fmt_out.name), target)
-    empty = sum(1 for g, h in zip(geoms, out) if g is not None and not g.is_empty and _is_polygonal(g)
-                and h.is_empty)
+    empty = _n_emptied(geoms, out)
     parts = [f"{n} feature(s)", f"r = {r:g} {crs_unit(crs)} in {_crs_label(crs)}"]
     if crs is not source_crs:
         parts.append(f"reprojected from {_crs_label(source_crs)}")
@@ -244,8 +249,7 @@ def _tighten_on_dask(geoms, crs, options: GeoOptions, *, r, init, tolerance, err
         client.close()
         if cluster is not None:
             cluster.close()
-    empty = sum(1 for g, h in zip(geoms, out) if g is not None and not g.is_empty and _is_polygonal(g)
-                and h.is_empty)
+    empty = _n_emptied(geoms, out)
     if empty:
         warnings.warn(f"{empty} of {len(out)} feature(s) have an empty tightening (no part of them holds a "
                       f"disk of radius r = {r:g}): their rows are kept with an empty geometry",

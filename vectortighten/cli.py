@@ -19,6 +19,10 @@ import warnings
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ._geofile import GeoOptions
 
 __all__ = ["COMMANDS", "main"]
 

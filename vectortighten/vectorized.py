@@ -215,7 +215,7 @@ def _repair_each(geoms: np.ndarray, labels: Callable[[int], str] | None = None, 
     flat = geoms.reshape(-1)
     first_reason = shapely.is_valid_reason(flat[idx[0]])
     fixed = shapely.make_valid(flat[idx])
-    for i, g in zip(idx, fixed):
+    for i, g in zip(idx, fixed, strict=True):
         flat[i] = _polygonal_part(g)
     name = labels(int(idx[0])) if labels else f"feature {int(idx[0])}"
     warnings.warn(f"{len(idx)} of {total or flat.size} feature(s) were invalid ({name}: {first_reason}); "
@@ -370,7 +370,7 @@ def _map(op: str, geometries, r, *, init="core", tolerance=None, processes=None,
     results: dict[int, _Done] = {}
     with FeatureBar(len(work), enabled=progress, desc=_OPS[op][1]) as bar:
         if n_proc == 1 or len(work) <= 1:
-            for i, v in zip(work, vertices):
+            for i, v in zip(work, vertices, strict=True):
                 bar.start(label(i), v)
                 results[i] = _run_one(op, flat[i], r, init, tolerance)
                 bar.advance()
@@ -385,7 +385,7 @@ def _map(op: str, geometries, r, *, init="core", tolerance=None, processes=None,
                 try:
                     for fut in as_completed(futures):
                         c = futures[fut]
-                        for i, d in zip(c.tolist(), fut.result()):
+                        for i, d in zip(c.tolist(), fut.result(), strict=True):
                             results[i] = d
                         bar.advance(len(c))
                 except BaseException:

@@ -151,7 +151,7 @@ def _geodata(name: str, extensions: tuple[str, ...]) -> Format:
     def write(result, path, *, layers=(), unit=None):
         geo.write_features(geo.result_features(result), path, name)
 
-    return Format(name, extensions, _read_geometry(lambda path: geo.read_union(path, name)), write,
+    return Format(name, extensions, _read_geometry(lambda path: geo._read_union(path, name)), write,
                   read_features=read_features, write_features=write_features, label=geo.GEODATA[name][1])
 
 
@@ -268,7 +268,8 @@ def write_result(result, path, *, layers=(), unit: str | None = None, format: st
     path : str or Path
         ``.svg`` (exact arcs, see `svg_document`), ``.wkt`` and the geodata formats ``.geojson`` /
         ``.json``, ``.gpkg``, ``.shp``, ``.fgb``, ``.parquet`` (the sampled geometry, within the result's
-        tolerance, as one feature whose attributes are r, init, perimeter, area and the counts), ``.dxf`` (LINE and ARC entities on layer
+        tolerance, as one feature whose attributes are r, init, perimeter, area and the counts), ``.dxf``
+        (LINE and ARC entities on layer
         ``TIGHTENING``; each ARC has radius exactly r and runs counter-clockwise, as DXF requires) or
         ``.png`` (a picture).
     layers : iterable of {"input", "core", "mortar"}
@@ -302,7 +303,9 @@ def write_result(result, path, *, layers=(), unit: str | None = None, format: st
 
 
 def read_features(path, *, layer: str | None = None, format: str | None = None) -> Features:
-    """Read the features of one layer of a geodata file (GeoPackage, Shapefile, GeoJSON, FlatGeobuf, GeoParquet).
+    """Read the features of one layer of a geodata file.
+
+    GeoPackage, Shapefile, GeoJSON, FlatGeobuf or GeoParquet (see `FORMATS`).
 
     Parameters
     ----------
@@ -370,6 +373,6 @@ def write_features(features: Features, path, *, format: str | None = None) -> No
     path = Path(path)
     fmt = format_of(path, format)
     if fmt.write_features is None:
-        raise ValueError(f"{path}: {fmt.title} does not hold features; write features to one of "
-                         f"{', '.join(e for f in FORMATS.values() if f.write_features for e in f.extensions)}")
+        exts = ", ".join(e for f in FORMATS.values() if f.write_features for e in f.extensions)
+        raise ValueError(f"{path}: {fmt.title} does not hold features; write features to one of {exts}")
     fmt.write_features(features, path)

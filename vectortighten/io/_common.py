@@ -58,7 +58,7 @@ class Features:
     def __len__(self) -> int:
         return len(self.geometry)
 
-    def with_geometry(self, geometry, **meta) -> "Features":
+    def with_geometry(self, geometry, **meta) -> Features:
         """The same features with new geometries (and ``meta`` updated by the keywords)."""
         geometry = np.asarray(geometry, dtype=object)
         if len(geometry) != len(self.geometry):

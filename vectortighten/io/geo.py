@@ -156,7 +156,7 @@ def read_geojson(path: Path):
     return _union(read_features(path, "geojson"), path)
 
 
-def read_union(path: Path, name: str, layer: str | None = None):
+def _read_union(path: Path, name: str, layer: str | None = None):
     """The features of a geodata file united into one shape (for the commands that take one shape)."""
     if name == "geojson":
         return read_geojson(path)
