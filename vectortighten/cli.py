@@ -36,9 +36,20 @@ examples:
 _EPILOG_TIGHTEN = """\
 formats (by extension):
   in:  .svg (paths, curves, arcs, basic shapes, transforms, fill-rule nonzero/evenodd),
-       .wkt, .geojson/.json (geometry, Feature, FeatureCollection), .png (a mask: the pixel method)
+       .wkt, .geojson/.json (geometry, Feature, FeatureCollection),
+       .png .tif .tiff .bmp .gif .jpg (a mask or label image)
   out: .svg (exact arcs as A commands), .wkt, .geojson/.json, .dxf (LINE and ARC entities),
-       .png (a picture; for a PNG input, the tightened mask)
+       .png (a picture; for an image input, the tightened mask), .tif .bmp (image inputs)
+
+masks and label images (the pixel method; r in pixels):
+  any non-zero pixel is inside (0/1, 0/255, 0/65535, bool); --threshold V reads a greyscale
+  or colour photo (inside where value/full scale >= V). The output image keeps the input's
+  size, dtype and values. --labels tightens every label of a label image (0 = background).
+  A multi-page TIFF is refused unless --stack (each slice on its own). Images of more than
+  8192 x 8192 pixels (all pages counted) are refused. A vector output (.svg, .dxf, ...)
+  traces the mask: --trace exact (default) tightens its pixel squares exactly (true arcs),
+  --trace contours writes the pixel method's sub-pixel contour. Pixel coordinates:
+  x = column, y = -row (SVG: y = row).
 
 SVG coordinates are the drawing's user units (R is in them too); an SVG whose root says
 width="210mm" viewBox="0 0 210 297" is in mm, and SVG and DXF outputs say so again.
@@ -55,6 +66,9 @@ examples:
   vectortighten tighten a.svg b.wkt c.geojson -r 1 -o out/ --format svg
   vectortighten tighten drawings/ -r 1 -o out/ --jobs 4 --progress
   vectortighten tighten mask.png -r 8 -o tight.png
+  vectortighten tighten labels.tif -r 6 --labels -o tight.tif
+  vectortighten tighten photo.jpg -r 8 --threshold 0.6 -o tight.png
+  vectortighten tighten mask.png -r 8 -o tight.svg --trace exact
 """
 
 _EPILOG_DEMO = """\
@@ -67,8 +81,10 @@ from . import io as _io
 
 # The extensions the command line reads and writes, from the table of formats (`vectortighten.io.FORMATS`).
 _VECTOR_IN = _io.READ_FORMATS
-_ALL_IN = _VECTOR_IN + tuple(e for f in _io.FORMATS.values() if f.kind == "mask" for e in f.extensions)
+_MASK_IN = tuple(e for f in _io.FORMATS.values() if f.kind == "mask" for e in f.extensions)
+_ALL_IN = _VECTOR_IN + _MASK_IN
 _VECTOR_OUT = _io.WRITE_FORMATS
+_MASK_OUT = _io.mask.MASK_WRITE_EXTENSIONS
 
 
 class UsageError(Exception):
@@ -92,13 +108,14 @@ def _positive_float(text: str) -> float:
     return value
 
 
-def _unit_float(text: str) -> float:
+def _threshold(text: str) -> float:
     try:
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    if not 0 <= value <= 1:
-        raise argparse.ArgumentTypeError(f"must be between 0 and 1, got {text}")
+    if not 0 < value <= 1:
+        raise argparse.ArgumentTypeError(f"must be more than 0 and at most 1 (a share of the full scale), "
+                                         f"got {text}")
     return value
 
 
@@ -132,8 +149,9 @@ def _layers(text: str) -> tuple[str, ...]:
 
 def _format(text: str) -> str:
     ext = "." + text.lower().lstrip(".")
-    if ext not in _VECTOR_OUT:
-        raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(e[1:] for e in _VECTOR_OUT)}")
+    known = _VECTOR_OUT + tuple(e for e in _MASK_OUT if e not in _VECTOR_OUT)
+    if ext not in known:
+        raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(e[1:] for e in known)}")
     return ext
 
 
@@ -179,9 +197,10 @@ def _add_tighten(sub) -> None:
         epilog=_EPILOG_TIGHTEN, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     tight.add_argument("inputs", type=Path, nargs="+", metavar="IN",
-                       help="input file(s) or a folder of them (.svg, .wkt, .geojson, .json, .png)")
+                       help="input file(s) or a folder of them (.svg, .wkt, .geojson, .json; images: "
+                            ".png, .tif, .bmp, .gif, .jpg)")
     tight.add_argument("-r", "--radius", type=_positive_float, required=True, metavar="R",
-                       help="the tightening radius, in the input's units (pixels for a PNG)")
+                       help="the tightening radius, in the input's units (pixels for an image)")
     tight.add_argument("-o", "--output", type=Path, required=True, metavar="OUT",
                        help="output file; a folder for several inputs (created if its parent exists)")
     tight.add_argument("--init", choices=("core", "input", "mason"), default="core",
@@ -193,13 +212,26 @@ def _add_tighten(sub) -> None:
                        help="SVG input: largest distance between a curve and its chords "
                             "(default 1e-4 of the drawing's diagonal)")
     tight.add_argument("--format", type=_format, default=None, metavar="EXT",
-                       help="output format for a folder OUT: svg, wkt, geojson, json, dxf or png "
-                            "(default: the input's)")
+                       help="output format for a folder OUT: svg, wkt, geojson, json, dxf, png, tif or "
+                            "bmp (default: the input's)")
     tight.add_argument("--layers", type=_layers, default=(), metavar="L,L",
                        help="SVG, DXF and PNG output: also draw input, core and/or mortar, e.g. "
                             "--layers input,core,mortar")
-    tight.add_argument("--threshold", type=_unit_float, default=0.5, metavar="V",
-                       help="PNG input: pixels brighter than V (0..1) belong to the shape (default 0.5)")
+    tight.add_argument("--threshold", type=_threshold, default=None, metavar="V",
+                       help="image input: read a greyscale or colour photo; a pixel is inside when its "
+                            "level (value / full scale, colour by luminance, alpha if transparent) is >= V, "
+                            "0 < V <= 1 (default: no threshold, every non-zero pixel is inside)")
+    tight.add_argument("--invert", action="store_true",
+                       help="image input: swap inside and outside (dark shapes on a light background)")
+    tight.add_argument("--labels", action="store_true",
+                       help="image input: a label image (0 = background); tighten every label and write "
+                            "one label image of the same dtype")
+    tight.add_argument("--stack", action="store_true",
+                       help="image input: tighten each slice of a multi-page TIFF (or animated GIF) on its "
+                            "own and write a stack (.tif); without it a stack is refused")
+    tight.add_argument("--trace", choices=("exact", "contours"), default="exact",
+                       help="image input, vector output: exact = tighten the pixel squares exactly (arcs of "
+                            "radius R; default), contours = the pixel method's sub-pixel contour")
     tight.add_argument("-j", "--jobs", type=_positive_int, default=None, metavar="N",
                        help="processes for several inputs (default: all cores)")
     tight.add_argument("--progress", action="store_true",
@@ -217,7 +249,11 @@ class _Task:
     tolerance: float | None
     flatten: float | None
     layers: tuple[str, ...]
-    threshold: float
+    threshold: float | None
+    invert: bool = False
+    labels: bool = False
+    stack: bool = False
+    trace: str = "exact"
 
 
 @dataclass
@@ -279,12 +315,10 @@ def _tighten_file(task: _Task) -> str:
     from . import io
 
     _check_output_format(task.source, task.target)
-    if task.source.suffix.lower() == ".png":
-        raster = io.mask._raster("load_mask", "save_mask", "tighten")
-        mask = io.read_mask(task.source, threshold=task.threshold)
-        result = raster.tighten(mask, task.r, init=task.init)
-        io.write_mask(result.mask, task.target)
-        return f"{task.target}: {int(result.mask.sum())} pixel(s) set of {result.mask.size}"
+    if task.source.suffix.lower() in _MASK_IN:
+        return io.mask.tighten_image_file(
+            task.source, task.target, r=task.r, init=task.init, threshold=task.threshold, invert=task.invert,
+            labels=task.labels, stack=task.stack, trace=task.trace, tolerance=task.tolerance, layers=task.layers)
     from .engine import tighten
 
     shape = io.read_shape(task.source, flatten=task.flatten)
@@ -316,11 +350,12 @@ def _expand_inputs(inputs: list[Path]) -> tuple[list[Path], bool]:
 
 def _check_output_format(source: Path, target: Path) -> None:
     ext = target.suffix.lower()
-    if source.suffix.lower() == ".png":
-        if ext != ".png":
-            raise UsageError(f"{source}: a PNG mask is tightened by the pixel method and written as .png, "
-                             f"not {ext or '(no extension)'}")
-    elif ext not in _VECTOR_OUT:
+    if source.suffix.lower() in _MASK_IN:
+        return              # an image goes to an image or to vectors: `io.mask.tighten_image_file` checks
+    if ext in _MASK_OUT and ext not in _VECTOR_OUT:
+        raise UsageError(f"{target}: {ext} is for image inputs (masks); a vector shape is written as one of "
+                         f"{', '.join(_VECTOR_OUT)}")
+    if ext not in _VECTOR_OUT:
         raise UsageError(f"{target}: unsupported output format {ext or '(none)'!r}; "
                          f"expected one of {', '.join(_VECTOR_OUT)}")
 
@@ -332,13 +367,25 @@ def _plan(args) -> tuple[list[_Task], bool]:
     if not batch and out.is_dir():
         batch = True
     opts = dict(r=args.radius, init=args.init, tolerance=args.tolerance, flatten=args.flatten,
-                layers=args.layers, threshold=args.threshold)
+                layers=args.layers, threshold=args.threshold, invert=args.invert, labels=args.labels,
+                stack=args.stack, trace=args.trace)
+    image_only = [name for name, on in (("--threshold", args.threshold is not None), ("--invert", args.invert),
+                                        ("--labels", args.labels), ("--stack", args.stack),
+                                        ("--trace", args.trace != "exact")) if on]
+    if image_only and not any(f.suffix.lower() in _MASK_IN for f in files):
+        raise UsageError(f"{image_only[0]} is for image inputs ({', '.join(_MASK_IN)})")
     if batch:
         if out.exists() and not out.is_dir():
             raise UsageError(f"{str(out)!r} exists and is not a folder")
         targets = []
         for f in files:
-            ext = args.format or (f.suffix.lower() if f.suffix.lower() in _VECTOR_OUT + (".png",) else ".svg")
+            own = f.suffix.lower()
+            if args.format:
+                ext = args.format
+            elif own in _MASK_IN:
+                ext = own if own in _MASK_OUT else ".png"      # GIF and JPEG masks come back as PNG
+            else:
+                ext = own if own in _VECTOR_OUT else ".svg"
             targets.append(out / (f.stem + ext))
     else:
         if args.format and out.suffix.lower() != args.format:
