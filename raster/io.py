@@ -118,9 +118,13 @@ def _format_of(path: Path, allowed) -> str:
     return _FORMATS[ext]
 
 
+class _SizeLimitError(ValueError):
+    """A declared size above the limit (kept apart from decoding errors)."""
+
+
 def _check_size(path: Path, pixels: int, described: str, max_pixels: int) -> None:
     if pixels > max_pixels:
-        raise ValueError(f"{path}: the image declares {described} = {pixels:,} pixels, more than the limit "
+        raise _SizeLimitError(f"{path}: the image declares {described} = {pixels:,} pixels, more than the limit "
                          f"of {max_pixels:,} (raster.io.MAX_PIXELS; pass max_pixels= to raise it)")
 
 
@@ -139,22 +143,20 @@ def _pil_array(img) -> np.ndarray:
 def _read_pillow(path: Path, fmt: str, max_pixels: int) -> MaskImage:
     from PIL import Image, ImageSequence, UnidentifiedImageError
 
+    limit = Image.MAX_IMAGE_PIXELS
     try:
+        # Pillow's own decompression-bomb check is replaced by ours, made on the declared size.
+        Image.MAX_IMAGE_PIXELS = None
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore", Image.DecompressionBombWarning)   # our own limit applies
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
             with Image.open(path) as im:
                 w, h = im.size
                 n = int(getattr(im, "n_frames", 1))
                 _check_size(path, w * h * n, f"{w} × {h}" + (f" × {n} frames" if n > 1 else ""), max_pixels)
-                limit = Image.MAX_IMAGE_PIXELS
-                Image.MAX_IMAGE_PIXELS = None if limit is None else max(limit, 2 * max_pixels)
-                try:
-                    frames = []
-                    for frame in ImageSequence.Iterator(im):
-                        frame.load()
-                        frames.append(_pil_array(frame))
-                finally:
-                    Image.MAX_IMAGE_PIXELS = limit
+                frames = []
+                for frame in ImageSequence.Iterator(im):
+                    frame.load()
+                    frames.append(_pil_array(frame))
                 palette = tuple(im.getpalette() or ()) if im.mode == "P" else None
                 transparency = im.info.get("transparency") if im.mode == "P" else None
                 dpi = im.info.get("dpi")
@@ -163,8 +165,12 @@ def _read_pillow(path: Path, fmt: str, max_pixels: int) -> MaskImage:
         raise ValueError(f"{path}: not an image file that can be read (expected {fmt.upper()})") from None
     except (FileNotFoundError, PermissionError, IsADirectoryError):
         raise
+    except _SizeLimitError:
+        raise
     except _DECODE_ERRORS as exc:
         raise ValueError(f"{path}: malformed {fmt.upper()} ({exc or type(exc).__name__})") from None
+    finally:
+        Image.MAX_IMAGE_PIXELS = limit
     if len({(f.shape, f.dtype.str) for f in frames}) > 1:
         raise ValueError(f"{path}: its frames differ in size or kind; only stacks of like frames are read")
     data = np.stack(frames) if len(frames) > 1 else frames[0]
@@ -223,7 +229,7 @@ def _read_tiff(path: Path, max_pixels: int) -> MaskImage:
                     if "imagecodecs" not in str(exc):
                         raise
                     data = None
-        except (FileNotFoundError, PermissionError, IsADirectoryError, MemoryError):
+        except (FileNotFoundError, PermissionError, IsADirectoryError, MemoryError, _SizeLimitError):
             raise
         except Exception as exc:   # tifffile raises many kinds on a damaged file (struct, zlib, its own)
             detail = str(exc) or type(exc).__name__
@@ -417,7 +423,7 @@ def load_mask(path, threshold: float | None = None, *, invert: bool = False,
 
     Without a threshold every non-zero pixel is inside (0/1, 0/255, 0/65535 and bool masks alike); with
     ``threshold`` in (0, 1] a pixel is inside when its grey level (value over the dtype's full scale;
-    colour by luminance, or alpha when transparent) is ≥ ``threshold``. ``invert=True`` swaps inside and
+    colour by luminance, transparency laid on white) is ≥ ``threshold``. ``invert=True`` swaps inside and
     outside, for dark shapes on a light background.
 
     Parameters

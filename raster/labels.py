@@ -98,6 +98,8 @@ class LabelTightening:
 def _check_labels(labels, name: str) -> np.ndarray:
     a = np.asarray(labels)
     if a.ndim != 2:
+        if a.ndim == 3 and a.shape[2] <= 4:
+            raise ValueError(f"{name} is a colour image {a.shape}, not a label image (one value a pixel)")
         if a.ndim == 3:
             raise ValueError(f"{name} must be a 2-D label image, got shape {a.shape}; tighten a stack slice "
                              "by slice (the command line's --stack does)")

@@ -17,7 +17,8 @@ The rules (the same on the command line):
 * **A threshold t in (0, 1]: a pixel is inside when its level is ≥ t**, the level being the value over
   the dtype's full scale (255 for ``uint8``, 65535 for ``uint16``, the largest value of any integer
   dtype), the value itself for a float image. Colour images are read by luminance (ITU-R 601, as
-  Pillow's ``L``), or by their alpha channel when they have transparency. Written back: 0 outside, the
+  Pillow's ``L``); transparent pixels are first laid on white (as scikit-image's ``rgba2rgb``), so a dark
+  drawing on a transparent background is read with ``invert=True``. Written back: 0 outside, the
   full scale inside (1.0 for floats, True for bool).
 * **Channels**: an image of shape (H, W, C), C ≤ 4, whose colour channels are all equal and whose alpha
   (if any) is opaque is a grey image stored in colour and is read as grey; any other colour image needs
@@ -158,7 +159,7 @@ def _as_grey(a: np.ndarray, threshold, name: str) -> tuple[np.ndarray, int, bool
     if threshold is None:
         kind = {2: "grey with transparency", 3: "colour (RGB)", 4: "colour with transparency (RGBA)"}[c]
         raise ValueError(f"{name} is a {kind} image, not a mask: give a threshold to read it by "
-                         f"{'alpha' if not opaque else 'luminance'} (--threshold on the command line)")
+                         "luminance (--threshold on the command line)")
     return a, c, True
 
 
@@ -181,7 +182,7 @@ def binarize(image, threshold: float | None = None, *, invert: bool = False,
         bool, integer or float values. Not modified.
     threshold : float in (0, 1], optional
         None (default): every non-zero pixel is inside. Else a pixel is inside when its level (value over
-        the dtype's full scale; a float's own value; colour by luminance, or alpha when transparent) is
+        the dtype's full scale; a float's own value; colour by luminance, transparency laid on white) is
         ≥ ``threshold``. See the module's notes for every rule.
     invert : bool
         Swap inside and outside.
@@ -226,11 +227,10 @@ def binarize(image, threshold: float | None = None, *, invert: bool = False,
     if threshold is not None:
         if colour:
             c = a.shape[2]
-            alpha = a[:, :, -1] if c in (2, 4) else None
-            if alpha is not None and not (alpha == _full_scale(a.dtype)).all():
-                level = _level(alpha)
-            else:
-                level = _level(a[:, :, :3]) @ _LUMA if c >= 3 else _level(a[:, :, 0])
+            level = _level(a[:, :, :3]) @ _LUMA if c >= 3 else _level(a[:, :, 0])
+            if c in (2, 4):                       # transparent pixels count as white, as if on paper
+                alpha = _level(a[:, :, -1])
+                level = alpha * level + (1.0 - alpha)
         else:
             level = _level(grey)
         mask = level >= t

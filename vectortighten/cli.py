@@ -219,7 +219,7 @@ def _add_tighten(sub) -> None:
                             "--layers input,core,mortar")
     tight.add_argument("--threshold", type=_threshold, default=None, metavar="V",
                        help="image input: read a greyscale or colour photo; a pixel is inside when its "
-                            "level (value / full scale, colour by luminance, alpha if transparent) is >= V, "
+                            "level (value / full scale, colour by luminance, transparency on white) is >= V, "
                             "0 < V <= 1 (default: no threshold, every non-zero pixel is inside)")
     tight.add_argument("--invert", action="store_true",
                        help="image input: swap inside and outside (dark shapes on a light background)")
