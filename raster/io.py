@@ -124,8 +124,8 @@ class _SizeLimitError(ValueError):
 
 def _check_size(path: Path, pixels: int, described: str, max_pixels: int) -> None:
     if pixels > max_pixels:
-        raise _SizeLimitError(f"{path}: the image declares {described} = {pixels:,} pixels, more than the limit "
-                         f"of {max_pixels:,} (raster.io.MAX_PIXELS; pass max_pixels= to raise it)")
+        raise _SizeLimitError(f"{path}: the image declares {described} = {pixels:,} pixels, more than the "
+                              f"limit of {max_pixels:,} (raster.io.MAX_PIXELS; pass max_pixels= to raise it)")
 
 
 def _pil_array(img) -> np.ndarray:
@@ -238,7 +238,8 @@ def _read_tiff(path: Path, max_pixels: int) -> MaskImage:
             raise ValueError(f"{path}: malformed TIFF ({detail})") from None
     if data is None:      # a compression only imagecodecs decodes for tifffile: Pillow's libtiff can
         img = _read_pillow(path, "tiff", max_pixels)
-        data, axes = img.data, ("I" if img.stack else "") + "YX" + ("S" if img.data.ndim - img.stack == 3 else "")
+        samples = "S" if img.data.ndim - img.stack == 3 else ""
+        data, axes = img.data, ("I" if img.stack else "") + "YX" + samples
     data, stack = _normalise_axes(data, axes, path)
     palette = None
     if colormap is not None and photometric == "palette":
@@ -332,7 +333,7 @@ def _pil_image(a: np.ndarray, fmt: str, like: MaskImage | None):
         if a.dtype == bool:
             return Image.fromarray(a)
         if a.dtype == np.uint8:
-            img = Image.fromarray(a, mode="L") if not (like and like.palette) else Image.fromarray(a, mode="P")
+            img = Image.fromarray(a, mode="P" if like is not None and like.palette else "L")
             if like is not None and like.palette:
                 img.putpalette(list(like.palette))
                 if like.transparency is not None and fmt == "png":

@@ -137,8 +137,10 @@ def _dense(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _aligned_crop(sl, shape, margin: int, align: int) -> tuple[slice, slice]:
-    """The bounding box ``sl`` grown by ``margin``, clipped to the image, its start a multiple of ``align``
-    (so the flow's coarse levels sample the same pixels as on the whole image)."""
+    """Grow the bounding box ``sl`` by ``margin``, clip it to the image, start it at a multiple of ``align``.
+
+    So the flow's coarse levels sample the same pixels as on the whole image.
+    """
     out = []
     for s, n in zip(sl, shape):
         a = max(0, s.start - margin)
@@ -214,7 +216,8 @@ def tighten_labels(labels, r, *, init: str = "core", return_result: bool = False
     t_start = time.perf_counter()
     a = _check_labels(labels, name)
     r = check_radius(r)
-    flow = {k: v for k, v in (("levels", levels), ("iterations", iterations), ("stop", stop)) if v is not None}
+    flow = {k: v for k, v in (("levels", levels), ("iterations", iterations), ("stop", stop))
+            if v is not None}
     values, dense = _dense(a)
     K = len(values)
     shape = a.shape

@@ -71,7 +71,7 @@ class LostLabelWarning(MaskWarning):
 
 def _full_scale(dtype: np.dtype):
     """The value that means "all the way on" for ``dtype``: True, the largest integer, or 1.0."""
-    if dtype == bool:
+    if dtype.kind == "b":
         return True
     if np.issubdtype(dtype, np.integer):
         return np.iinfo(dtype).max
@@ -153,7 +153,8 @@ def _as_grey(a: np.ndarray, threshold, name: str) -> tuple[np.ndarray, int, bool
     colour = a[:, :, : (1 if c <= 2 else 3)]
     alpha = a[:, :, -1] if c in (2, 4) else None
     opaque = alpha is None or bool((alpha == _full_scale(a.dtype)).all())
-    equal = c <= 2 or bool(((colour[:, :, 0] == colour[:, :, 1]) & (colour[:, :, 0] == colour[:, :, 2])).all())
+    first = colour[:, :, 0]
+    equal = c <= 2 or bool(((first == colour[:, :, 1]) & (first == colour[:, :, 2])).all())
     if equal and opaque:
         return a[:, :, 0], c, False
     if threshold is None:

@@ -57,7 +57,8 @@ def _raster(*names: str):
     try:
         raster = importlib.import_module("raster")
     except ImportError:
-        raise MissingDependencyError("image masks need the 'raster' package (part of vectortighten)") from None
+        raise MissingDependencyError("image masks need the 'raster' package (part of vectortighten)") \
+            from None
     missing = [n for n in names if not hasattr(raster, n)]
     if missing:
         raise MissingDependencyError(f"this version of the raster package has no {', '.join(missing)}")
@@ -217,7 +218,8 @@ def _loops_of(geometry) -> list:
     return loops
 
 
-def trace_tighten(mask, r: float, *, trace: str = "exact", init: str = "core", tolerance: float | None = None):
+def trace_tighten(mask, r: float, *, trace: str = "exact", init: str = "core",
+                  tolerance: float | None = None):
     """Tighten a binary mask into vectors, in pixel coordinates (x = column, y = −row).
 
     Parameters
@@ -391,7 +393,8 @@ def tighten_image_file(source, target, *, r: float, init: str = "core", threshol
     raster.write_image(target, out, like=like)
     where = f"{len(outs)} slices, " if img.stack else ""
     if labels:
-        return f"{target}: {where}{kept} of {total} label(s) kept, {int(np.count_nonzero(out))} labelled pixel(s)"
+        return (f"{target}: {where}{kept} of {total} label(s) kept, "
+                f"{int(np.count_nonzero(out))} labelled pixel(s)")
     grey = [o[:, :, 0] if o.ndim == 3 else o for o in outs]
     inside = sum(int((g == 0).sum()) if invert else int((g != 0).sum()) for g in grey)
     size = sum(int(math.prod(o.shape[:2])) for o in outs)
