@@ -132,8 +132,9 @@ def main(argv=None):
         "# Label images: `raster.tighten_labels` against the binary tightening of the union and per-label "
         "opening + closing",
         "",
-        f"`python benchmarks/bench_labels.py --repeats {args.repeats}` — a {args.size} × {args.size} label "
-        f"image with {present} labels (Voronoi cells cut to jagged disks; see the script), CPU time of one "
+        f"`python benchmarks/bench_labels.py --radius {' '.join(f'{r:g}' for r in args.radius)} --repeats "
+        f"{args.repeats}` — a {args.size} × {args.size} label "
+        f"image with {present} labels (Voronoi cells with jagged shared borders cut to jagged disks; see the script), CPU time of one "
         f"process, medians of {args.repeats}. Machine: {platform.processor() or platform.machine()}, "
         f"Python {platform.python_version()}, numpy {np.__version__}. Baseline: {rows[0]['base_name']}.",
         "",

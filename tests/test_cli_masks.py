@@ -230,7 +230,7 @@ def test_bad_images_are_one_line_exit_2_nothing_written(tmp_path, capsys, make, 
         code = main(["tighten", str(src), "-r", "3", *extra, "-o", str(tmp_path / out)])
         line = _err_line(capsys)
         if extra and out == "t.svg":
-            assert code == 2 and "vector output of labels is not supported" in line
+            assert code == 2 and "or GeoJSON (one feature a label); not .svg" in line
             continue
         if make is _three_d and out == "t.png":
             assert code == 2 and "stack" in line
@@ -280,3 +280,21 @@ def test_a_folder_of_masks_warns_for_the_empty_one(tmp_path, capsys):
     assert "b.tif: the mask is empty" in cap.err and cap.err.count("warning") == 1
     assert sorted(p.name for p in out.iterdir()) == ["a.png", "b.tif", "c.tif"]
     assert raster.read_image(out / "c.tif").data.dtype == np.uint16
+
+
+def test_labels_to_geojson_tile_without_gaps(tmp_path, capsys):
+    img = np.zeros((40, 60), np.uint16)
+    img[5:35, 5:30], img[5:35, 30:55], img[10:14, 55:59] = 300, 40000, 7      # 7 is too small: vanishes
+    src, out = tmp_path / "labels.tif", tmp_path / "labels.geojson"
+    raster.write_image(src, img)
+    code, cap = _run(capsys, src, "-r", 4, "--labels", "-o", out)
+    assert code == 0 and "1 of 3 label(s) vanished" in cap.err and "2 of 3 label(s) kept" in cap.out
+    features = json.loads(out.read_text())["features"]
+    assert [f["properties"]["label"] for f in features] == [300, 40000]
+    shapes = [shapely.geometry.shape(f["geometry"]) for f in features]
+    assert shapes[0].intersection(shapes[1]).area == 0 and shapes[0].touches(shapes[1])
+    assert shapes[0].intersection(shapes[1]).length >= 30 - 2 * 4     # the shared border, less the corners
+    for f, g in zip(features, shapes):
+        assert g.area == f["properties"]["area"]
+    assert main(["tighten", str(src), "-r", "4", "--labels", "-o", str(tmp_path / "l.svg")]) == 2
+    assert "one feature a label" in _err_line(capsys)

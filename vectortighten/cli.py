@@ -49,7 +49,7 @@ masks and label images (the pixel method; r in pixels):
   8192 x 8192 pixels (all pages counted) are refused. A vector output (.svg, .dxf, ...)
   traces the mask: --trace exact (default) tightens its pixel squares exactly (true arcs),
   --trace contours writes the pixel method's sub-pixel contour. Pixel coordinates:
-  x = column, y = -row (SVG: y = row).
+  x = column, y = -row (SVG: y = row). --labels to .geojson: one feature a label.
 
 SVG coordinates are the drawing's user units (R is in them too); an SVG whose root says
 width="210mm" viewBox="0 0 210 297" is in mm, and SVG and DXF outputs say so again.

@@ -7,7 +7,8 @@ An image input (PNG, TIFF, BMP, GIF, JPEG) is read by `raster.read_image` exactl
   back in the input's size, dtype and values (0/1 in, 0/1 out; 16-bit in, 16-bit out; labels in, the
   same labels out);
 * to a vector output (SVG, WKT, GeoJSON, DXF, and whatever else `vectortighten.io.write_result` writes):
-  traced (`trace_tighten`). ``trace="exact"`` (the default) tightens the union of the mask's pixel squares
+  traced (`trace_tighten`). A label image (``labels=True``) goes to GeoJSON only, one feature a label
+  (`labels_geojson`). ``trace="exact"`` (the default) tightens the union of the mask's pixel squares
   with the exact engine, so the output has true arcs of radius r; ``trace="contours"`` runs the pixel
   method and writes its sub-pixel contour (straight segments between pixel edges). Coordinates are pixels:
   x is the column, y = −row (the image the right way up; SVG flips y back, so an SVG output overlays the
@@ -37,6 +38,7 @@ __all__ = [
     "MASK_WRITE_EXTENSIONS",
     "TRACES",
     "TracedTightening",
+    "labels_geojson",
     "read_mask",
     "tighten_image_file",
     "trace_pixels",
@@ -272,6 +274,40 @@ def trace_tighten(mask, r: float, *, trace: str = "exact", init: str = "core",
     return TracedTightening(_loops_of(geometry), geometry, float(r), init, res, mask=m)
 
 
+def labels_geojson(out, res=None) -> str:
+    """A tightened label image as a GeoJSON FeatureCollection: one Feature a label, its pixel squares.
+
+    Each label's region is traced exactly (`trace_pixels`: the union of its pixels' squares, in pixel
+    coordinates x = column, y = −row), so neighbouring labels share their edges exactly and the features
+    tile the labelled area with no gap and no overlap. Properties: ``label``, ``area`` (pixels), and with
+    ``res`` (a `raster.LabelTightening`) ``area_in`` and ``r``. Labels with no pixel left have no feature.
+
+    Examples
+    --------
+    >>> import numpy as np, json
+    >>> img = np.zeros((4, 6), np.uint8); img[1:3, 1:3] = 5; img[1:3, 3:5] = 9
+    >>> fc = json.loads(labels_geojson(img))
+    >>> [(f["properties"]["label"], f["properties"]["area"]) for f in fc["features"]]
+    [(5, 4), (9, 4)]
+    """
+    import json
+
+    from shapely.geometry import mapping
+
+    out = np.asarray(out)
+    values, counts = np.unique(out[out != 0], return_counts=True)
+    area_in = {}
+    if res is not None:
+        area_in = {v.item(): int(a) for v, a in zip(res.values, res.area_in, strict=True)}
+    features = []
+    for v, n in zip(values, counts, strict=True):
+        props = {"label": v.item(), "area": int(n)}
+        if res is not None:
+            props.update(area_in=area_in.get(v.item()), r=res.r, init=res.init)
+        features.append({"type": "Feature", "geometry": mapping(trace_pixels(out == v)), "properties": props})
+    return json.dumps({"type": "FeatureCollection", "features": features})
+
+
 # ---------------------------------------------------------------------------------------------------------
 # One image file in, one file out (the command line's mask path)
 # ---------------------------------------------------------------------------------------------------------
@@ -303,7 +339,8 @@ def tighten_image_file(source, target, *, r: float, init: str = "core", threshol
     invert : bool
         Swap inside and outside.
     labels : bool
-        Tighten every label of a label image (`raster.tighten_labels`); image output only.
+        Tighten every label of a label image (`raster.tighten_labels`); to an image, or to GeoJSON
+        (`labels_geojson`).
     stack : bool
         Tighten each slice of a stack (multi-page TIFF, animated GIF); TIFF output only.
     trace : {"exact", "contours"}
@@ -345,9 +382,12 @@ def tighten_image_file(source, target, *, r: float, init: str = "core", threshol
             raise ValueError(f"{target}: unsupported output format {ext or '(none)'!r}; an image input is "
                              f"written as an image ({', '.join(MASK_WRITE_EXTENSIONS)}) or as vectors "
                              f"({', '.join(e for e in WRITE_FORMATS if e not in MASK_WRITE_EXTENSIONS)})")
-        if labels:
-            raise ValueError(f"{target}: --labels writes a label image ({', '.join(MASK_WRITE_EXTENSIONS)}); "
-                             "vector output of labels is not supported")
+        if labels and ext not in (".geojson", ".json"):
+            raise ValueError(f"{target}: --labels writes a label image ({', '.join(MASK_WRITE_EXTENSIONS)}) "
+                             "or GeoJSON (one feature a label); not " + ext)
+        if labels and (trace != "exact" or tolerance is not None or layers):
+            raise ValueError(f"{target}: labels are traced as the pixel squares of their tightened regions; "
+                             "--trace, --tolerance and --layers do not apply")
     elif trace != "exact" or tolerance is not None or layers:
         raise ValueError(f"{target}: --trace, --tolerance and --layers are for vector outputs; "
                          "an image output is the tightened mask itself")
@@ -366,6 +406,13 @@ def tighten_image_file(source, target, *, r: float, init: str = "core", threshol
         slices = [_palette_colours(img.with_data(s)) for s in slices]     # a palette is read by its colours
         like = replace(img, palette=None, transparency=None, photometric=None)
     names = [str(source)] if len(slices) == 1 else [f"{source} slice {i}" for i in range(len(slices))]
+    if not to_image and labels:
+        out, res = raster.tighten_labels(slices[0], r, init=init, return_result=True, name=names[0])
+        text = labels_geojson(out, res)
+        with atomic_path(target) as tmp:
+            tmp.write_text(text, encoding="utf-8")
+        kept = int((res.area_out > 0).sum())
+        return f"{target}: {kept} of {len(res.values)} label(s) kept, traced as {kept} feature(s)"
     if not to_image:
         mask, _ = raster.binarize(slices[0], threshold, invert=invert, name=names[0])
         if not mask.any():
