@@ -134,8 +134,8 @@ def main(argv=None):
         "",
         f"`python benchmarks/bench_labels.py --radius {' '.join(f'{r:g}' for r in args.radius)} --repeats "
         f"{args.repeats}` — a {args.size} × {args.size} label "
-        f"image with {present} labels (Voronoi cells with jagged shared borders cut to jagged disks; see the script), CPU time of one "
-        f"process, medians of {args.repeats}. Machine: {platform.processor() or platform.machine()}, "
+        f"image with {present} labels (Voronoi cells with jagged shared borders cut to jagged disks; see "
+        f"the script), CPU time of one process, medians of {args.repeats}. Machine: {platform.processor() or platform.machine()}, "
         f"Python {platform.python_version()}, numpy {np.__version__}. Baseline: {rows[0]['base_name']}.",
         "",
         "| r (px) | tighten_labels (s) | tighten(union) (s) | per-label opening+closing (s) | "
