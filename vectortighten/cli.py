@@ -423,7 +423,8 @@ def _plan(args) -> tuple[list[_Task], bool]:
 
 # Options of the CAD and cut-file group: (attribute, option, reader or writer keyword, input or output).
 _CAD_OPTIONS = (("layer", "--layer", "layers", "input"), ("nesting", "--nesting", "nesting", "input"),
-                ("gap", "--gap", "gap", "input"), ("dxf_entities", "--dxf-entities", "dxf_entities", "output"),
+                ("gap", "--gap", "gap", "input"),
+                ("dxf_entities", "--dxf-entities", "dxf_entities", "output"),
                 ("keep_style", "--keep-style", "keep_style", "output"),
                 ("stroke_only", "--stroke-only", "stroke_only", "output"))
 

@@ -184,11 +184,13 @@ def format_of(path, format: str | None = None) -> Format:
 def _check_options(fmt: Format, options: dict, allowed: tuple[str, ...], what: str) -> None:
     bad = sorted(k for k in options if k not in allowed)
     if bad:
-        takes = {k for f in FORMATS.values() for k in (f.read_options if what == "input" else f.write_options)}
+        def options_of(f):
+            return f.read_options if what == "input" else f.write_options
+
+        takes = {k for f in FORMATS.values() for k in options_of(f)}
         key = bad[0]
         if key in takes:
-            owners = [f.name.upper() for f in FORMATS.values()
-                      if key in (f.read_options if what == "input" else f.write_options)]
+            owners = [f.name.upper() for f in FORMATS.values() if key in options_of(f)]
             raise ValueError(f"{key} is an option of {' and '.join(owners)} {what}, not {fmt.name.upper()}")
         raise TypeError(f"unknown {what} option {key!r}")
 

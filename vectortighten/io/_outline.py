@@ -125,9 +125,11 @@ class Chain:
 
 
 def _snap(runs: list, scale: float, closed: bool) -> list:
-    """Make consecutive runs meet exactly: a polyline's end moves onto an arc's (arcs stay exact); two
-    polylines meet halfway; two arcs apart by more than 1e-12 of ``scale`` get a straight bridge. Adjacent
-    polylines are merged."""
+    """Make consecutive runs meet exactly.
+
+    A polyline's end moves onto an arc's (arcs stay exact); two polylines meet halfway; two arcs apart by
+    more than 1e-12 of ``scale`` get a straight bridge. Adjacent polylines are merged.
+    """
     out: list = []
     for r in runs:
         r = r if isinstance(r, Arc) else np.array(r, dtype=float)
@@ -153,8 +155,8 @@ def _snap(runs: list, scale: float, closed: bool) -> list:
             b[0] = a.end
         elif isinstance(b, Arc):
             a[-1] = b.start
-        else:                                      # one closed polyline: its own ends
-            a[-1] = b[0]
+        else:                                      # one closed polyline: its own ends meet halfway
+            a[0] = a[-1] = 0.5 * (a[0] + a[-1])
     if not bridges:
         return out
     snapped = []
@@ -248,9 +250,9 @@ def join(chains: list[Chain], gap: float, scale: float, name: str) -> list[Chain
             else:
                 where = "no other outline has an end"
             raise InvalidGeometryError(
-                f"{name}: open outline: {c.label} ends at {_fmt_point(ends[k])} and nothing joins it within the "
-                f"gap tolerance {gap:.3g} ({where}); close it in the drawing or allow a wider gap (--gap on the "
-                "command line, gap= in Python)")
+                f"{name}: open outline: {c.label} ends at {_fmt_point(ends[k])} and nothing joins it within "
+                f"the gap tolerance {gap:.3g} ({where}); close it in the drawing or allow a wider gap (--gap "
+                "on the command line, gap= in Python)")
         if len(others) > 1:
             labels = sorted({open_[h // 2].label for h in hits})
             raise InvalidGeometryError(
@@ -263,10 +265,20 @@ def join(chains: list[Chain], gap: float, scale: float, name: str) -> list[Chain
     edges = [em.make_edge(Vec2(*c.start), Vec2(*c.end), max(c.length, 1e-300), payload=i)
              for i, c in enumerate(open_)]
     deposit = em.Deposit(edges, gap_tol=gap)
+    found_all = []
     for found in em.find_all_simple_chains(deposit):
         if not em.is_loop(found, gap_tol=gap):     # cannot happen when every end meets one other
             raise InvalidGeometryError(f"{name}: open outline: {open_[found[0].payload].label} is part of a "
                                        "chain that does not close")
+        # The same loop whatever order the search met it in: from its first outline, run as drawn.
+        found = list(found)
+        k = min(range(len(found)), key=lambda i: found[i].payload)
+        found = found[k:] + found[:k]
+        if found[0].is_reverse:
+            found = [e.reversed() for e in reversed(found)]
+            found = found[-1:] + found[:-1]
+        found_all.append(found)
+    for found in sorted(found_all, key=lambda f: f[0].payload):
         runs: list = []
         for e in found:
             c = open_[e.payload]

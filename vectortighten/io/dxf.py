@@ -118,8 +118,11 @@ def read_dxf(path, *, layers=None, flatten: float | None = None, gap: float | No
         missing = sorted(wanted - walk.matched)
         if missing:
             known = sorted(walk.seen_layers, key=str.casefold)
-            raise InvalidGeometryError(f"{name}: no entities on layer(s) {', '.join(map(repr, missing))}; the "
-                                       f"drawing's layers are {', '.join(map(repr, known)) or '(none)'}")
+            raise InvalidGeometryError(f"{name}: no entities on layer(s) {', '.join(map(repr, missing))}; "
+                                       f"the drawing's layers are {', '.join(map(repr, known)) or '(none)'}")
+    if not walk.curves:
+        found = ", ".join(f"{n} {k}" for k, n in sorted(walk.skipped.items())) or "nothing readable"
+        raise InvalidGeometryError(f"{name}: no outlines in the model space (found {found})")
     if walk.hidden:
         warnings.warn(f"{name}: entities on hidden (off or frozen) layer(s) "
                       f"{', '.join(map(repr, sorted(walk.hidden)))} skipped; name them with --layer to read "
@@ -128,9 +131,6 @@ def read_dxf(path, *, layers=None, flatten: float | None = None, gap: float | No
         kinds = ", ".join(f"{n} {k}" for k, n in sorted(walk.skipped.items()))
         warnings.warn(f"{name}: {kinds} ignored (only LINE, ARC, CIRCLE, LWPOLYLINE, POLYLINE, ELLIPSE and "
                       "SPLINE outline a cut)", UserWarning, stacklevel=2)
-    if not walk.curves:
-        found = ", ".join(f"{n} {k}" for k, n in sorted(walk.skipped.items())) or "nothing readable"
-        raise InvalidGeometryError(f"{name}: no outlines in the model space (found {found})")
     ebbox = _require("ezdxf.bbox", "dxf", "reading DXF")
     box = ebbox.extents([e for e, _, _ in walk.curves], fast=True)
     if not box.has_data:
@@ -240,8 +240,9 @@ class _Walk:
                 self._insert(e, stack, layer, where)
                 continue
             if kind in _SOLID_3D or (kind == "POLYLINE" and (e.is_poly_face_mesh or e.is_polygon_mesh)):
-                raise InvalidGeometryError(f"{self.name}: {_label(e, layer, where)} is a 3D entity; a cut file "
-                                           "is a 2D drawing in the XY plane (export a 2D view or section)")
+                raise InvalidGeometryError(f"{self.name}: {_label(e, layer, where)} is a 3D entity; a "
+                                           "cut file is a 2D drawing in the XY plane (export a 2D view or "
+                                           "section)")
             if not self._take(layer):
                 continue
             if kind in _CURVES:
@@ -580,5 +581,6 @@ def write_dxf(result, tmp: Path, layers, unit=None, meta=None, entities: str = "
     box = ebbox.extents(msp)
     if box.has_data:                      # $EXTMIN/$EXTMAX, and the view a CAD program opens on
         msp.dxf.extmin, msp.dxf.extmax = box.extmin, box.extmax
+        doc.header["$EXTMIN"], doc.header["$EXTMAX"] = box.extmin, box.extmax   # kept if they are (0, 0, 0)
         _require("ezdxf.zoom", "dxf", "writing DXF").center(msp, box.center, box.size * 1.1)
     doc.saveas(tmp)

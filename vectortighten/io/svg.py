@@ -38,7 +38,7 @@ import io as _stdio
 import math
 import re
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -51,7 +51,7 @@ from vectortighten.errors import InvalidGeometryError
 from ._common import _bounds, _check_layers, _polygonal, _require
 from ._fill import fill_rings
 from ._outline import DEFAULT_GAP, Chain, _snap, assemble, drop_duplicates, exact_boundary, join
-from ._source import MM_PER_UNIT, Source
+from ._source import Source
 
 __all__ = ["DEFAULT_FLATTEN", "NESTINGS", "load_svg", "read_svg", "svg_document", "svg_unit"]
 
@@ -297,9 +297,11 @@ def _similarity(M: np.ndarray) -> tuple[float, float] | None:
 
 
 def _subpaths(shape: _Shape, se, tol_user: float) -> list[tuple[list, bool]]:
-    """Each subpath of ``shape`` as runs in user units (y up) and whether it is closed (``Z``, or back at
-    its start). Circular arcs under a similarity are exact `Arc`s; other curves are chords within
-    ``tol_user``."""
+    """Each subpath of ``shape`` as runs in user units (y up), and whether it is closed.
+
+    A subpath is closed by ``Z`` (or by coming back to its start). Circular arcs under a similarity are
+    exact `Arc`s; other curves are chords within ``tol_user``.
+    """
     M, t = shape.m[:2, :2], shape.m[:2, 2]
     sim = _similarity(M)
     tol_local = tol_user / shape.smax
@@ -360,7 +362,7 @@ def _subpaths(shape: _Shape, se, tol_user: float) -> list[tuple[list, bool]]:
         else:
             poly.append(_curve_chords(seg, se, tol_local))
     finish(False)
-    for runs_, closed in out:
+    for runs_, _ in out:
         for r in runs_:
             pts = np.array([r.center]) if isinstance(r, Arc) else r
             if not np.isfinite(pts).all():
@@ -369,8 +371,10 @@ def _subpaths(shape: _Shape, se, tol_user: float) -> list[tuple[list, bool]]:
 
 
 def _closed_runs(runs: list, scale: float) -> list:
-    """The runs of a subpath closed implicitly (as a fill closes it): a straight piece back to the start
-    unless it ends there already (to 1e-12 of ``scale``)."""
+    """Close the runs of a subpath as a fill closes it: a straight piece back to the start.
+
+    Nothing is added when it ends there already (to 1e-12 of ``scale``).
+    """
     first = runs[0]
     start = np.array(first.start) if isinstance(first, Arc) else first[0]
     last = runs[-1]
@@ -464,9 +468,11 @@ def _page(root) -> dict:
 
 
 def _dxf_meta(page: dict, unit: str | None) -> dict:
-    """Units and the map to DXF coordinates of an SVG, as Inkscape's DXF export places it: y up, the
-    page's bottom-left corner at the origin, in the drawing's own unit when it is mm, cm or in, else in
-    mm (Inkscape's default), unitless when the page has no absolute size."""
+    """Units and the map to DXF coordinates of an SVG, as Inkscape's DXF export places it.
+
+    y up, the page's bottom-left corner at the origin, in the drawing's own unit when it is mm, cm or in,
+    else in mm (Inkscape's default); unitless when the page has no absolute size.
+    """
     box = page["box"]
     view = page["view"]
     if view is None or page["viewport"] is None:
@@ -643,8 +649,8 @@ def _load_svg(data: bytes, name: str, flatten: float | None, nesting: str, gap: 
         open_, dup_open = drop_duplicates(open_, gap_tol, closed=False)
         dropped = dup_closed + dup_open
         if dropped:
-            warnings.warn(f"{name}: {len(dropped)} outline(s) drawn twice read once (e.g. {dropped[0].label})",
-                          UserWarning, stacklevel=3)
+            warnings.warn(f"{name}: {len(dropped)} outline(s) drawn twice read once "
+                          f"(e.g. {dropped[0].label})", UserWarning, stacklevel=3)
         loops = join(closed + open_, gap_tol, scale, name)
         shape, exact = assemble(loops, flatten)
         rings = [(c.ring(flatten), c.owner) for c in loops]
@@ -917,7 +923,8 @@ def svg_document(result, *, layers=(), unit: str | None = None, meta: dict | Non
             elif meta.get("mm_per_unit"):
                 size_unit, factor = "mm", float(meta["mm_per_unit"])
         if size_unit:
-            root_attrs += f' width="{_num(vb[2] * factor)}{size_unit}" height="{_num(vb[3] * factor)}{size_unit}"'
+            w, h = _num(vb[2] * factor), _num(vb[3] * factor)
+            root_attrs += f' width="{w}{size_unit}" height="{h}{size_unit}"'
     stroke = _num(0.002 * size)
     lines = [
         '<?xml version="1.0" encoding="UTF-8"?>',
