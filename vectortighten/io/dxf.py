@@ -47,6 +47,7 @@ _BINARY_SENTINEL = b"AutoCAD Binary DXF\r\n\x1a\x00"
 _SOLID_3D = {"3DFACE", "3DSOLID", "MESH", "SURFACE", "BODY", "PLANESURFACE", "EXTRUDEDSURFACE",
              "LOFTEDSURFACE", "REVOLVEDSURFACE", "SWEPTSURFACE", "POLYFACE", "POLYMESH"}
 _CURVES = {"LINE", "ARC", "CIRCLE", "LWPOLYLINE", "POLYLINE", "ELLIPSE", "SPLINE"}
+_FLATTENED = {"ELLIPSE", "SPLINE"}          # read within the flatten tolerance (all others are exact)
 _UNIT_CODE = {name: code for code, name in INSUNITS.items() if name is not None}
 
 
@@ -131,18 +132,27 @@ def read_dxf(path, *, layers=None, flatten: float | None = None, gap: float | No
         kinds = ", ".join(f"{n} {k}" for k, n in sorted(walk.skipped.items()))
         warnings.warn(f"{name}: {kinds} ignored (only LINE, ARC, CIRCLE, LWPOLYLINE, POLYLINE, ELLIPSE and "
                       "SPLINE outline a cut)", UserWarning, stacklevel=2)
-    ebbox = _require("ezdxf.bbox", "dxf", "reading DXF")
-    box = ebbox.extents([e for e, _, _ in walk.curves], fast=True)
-    if not box.has_data:
-        raise InvalidGeometryError(f"{name}: the outlines have no extent")
-    (x0, y0), (x1, y1) = box.extmin.vec2, box.extmax.vec2
-    diag = math.hypot(x1 - x0, y1 - y0)
+    # Exact outlines first; their extent (with that of the curves to flatten) sets the default tolerances.
+    chains, curved = [], []
+    for e, layer, where in walk.curves:
+        if e.dxftype() in _FLATTENED:
+            curved.append((e, layer, where))
+        else:
+            chains += _chains_of(e, layer, where, math.inf, name)
+    boxes = [c.bounds() for c in chains]
+    if curved:
+        ebbox = _require("ezdxf.bbox", "dxf", "reading DXF")
+        box = ebbox.extents([e for e, _, _ in curved], fast=True)
+        if box.has_data:
+            boxes.append((*box.extmin.vec2, *box.extmax.vec2))
+    b = np.array(boxes, dtype=float).reshape(-1, 4)
+    diag = math.hypot(b[:, 2].max() - b[:, 0].min(), b[:, 3].max() - b[:, 1].min()) if len(b) else 0.0
     if not (math.isfinite(diag) and diag > 0):
-        raise InvalidGeometryError(f"{name}: NaN, infinite or coincident coordinates")
+        raise InvalidGeometryError(f"{name}: the outlines have no extent (zero length, or NaN or infinite "
+                                   "coordinates)")
     tol = flatten if flatten is not None else _DEFAULT_FLATTEN * diag
     gap_tol = gap if gap is not None else DEFAULT_GAP * diag
-    chains = []
-    for e, layer, where in walk.curves:
+    for e, layer, where in curved:
         chains += _chains_of(e, layer, where, tol, name)
     if not chains:
         raise InvalidGeometryError(f"{name}: every outline has zero length")
@@ -350,6 +360,8 @@ def _chains_of(e, layer: str, where: str, tol: float, name: str) -> list[Chain]:
     label = _label(e, layer, where)
     if kind == "LINE":
         s, t = e.dxf.start, e.dxf.end
+        if not all(map(math.isfinite, (s.x, s.y, t.x, t.y))):
+            raise InvalidGeometryError(f"{name}: NaN or infinite coordinates in {label}")
         _check_plane(name, e, layer, where, [s.z, t.z], math.hypot(t.x - s.x, t.y - s.y))
         if (s.x, s.y) == (t.x, t.y):
             return []

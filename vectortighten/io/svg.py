@@ -289,9 +289,11 @@ def _background(root, se) -> tuple[int, int, int]:
 
 def _similarity(M: np.ndarray) -> tuple[float, float] | None:
     """``(scale, sign of det)`` if ``M`` maps circles to circles (a rotation, reflection and scale)."""
-    det = float(np.linalg.det(M))
+    a, c, b, d = float(M[0, 0]), float(M[0, 1]), float(M[1, 0]), float(M[1, 1])
+    det = a * d - b * c
     s2 = abs(det)
-    if not s2 or not np.allclose(M.T @ M, s2 * np.eye(2), rtol=0.0, atol=1e-12 * s2):
+    # Mᵀ M = s² I: columns of equal length s, orthogonal.
+    if not s2 or max(abs(a * a + b * b - s2), abs(c * c + d * d - s2), abs(a * c + b * d)) > 1e-12 * s2:
         return None
     return math.sqrt(s2), 1.0 if det > 0 else -1.0
 
@@ -310,9 +312,8 @@ def _subpaths(shape: _Shape, se, tol_user: float) -> list[tuple[list, bool]]:
     poly: list = []
     start = None
 
-    def user(pts) -> np.ndarray:
-        with np.errstate(all="ignore"):
-            return np.asarray(pts, dtype=float).reshape(-1, 2) @ M.T + t
+    def user(pts) -> np.ndarray:      # the caller ignores floating-point errors; NaNs are checked below
+        return np.asarray(pts, dtype=float).reshape(-1, 2) @ M.T + t
 
     def flush_poly():
         nonlocal poly
@@ -620,6 +621,11 @@ def _parse_shapes(data: bytes, name: str):
 
 
 def _load_svg(data: bytes, name: str, flatten: float | None, nesting: str, gap: float | None) -> Source:
+    with np.errstate(all="ignore"):      # huge transforms overflow to inf; `_subpaths` refuses them by name
+        return _load_svg_checked(data, name, flatten, nesting, gap)
+
+
+def _load_svg_checked(data: bytes, name: str, flatten: float | None, nesting: str, gap: float | None) -> Source:
     shapes, root, se = _parse_shapes(data, name)
     if not shapes:
         raise InvalidGeometryError(f"{name}: no shapes found in the SVG")
@@ -839,15 +845,23 @@ def _components(loops, tol: float) -> list[tuple[int, list[int]]]:
     """Outer loops with the holes each holds: ``[(outer, [hole, …]), …]`` (indices into ``loops``)."""
     outer = [k for k, lp in enumerate(loops) if lp.area > 0]
     holes = [k for k, lp in enumerate(loops) if lp.area < 0]
-    polys = {k: Polygon(loops[k].sample(tol)) for k in outer}
     groups = {k: [] for k in outer}
-    for h in holes:
-        x, y = loops[h].pieces[0].start
-        inside = [k for k in outer if polys[k].buffer(tol).covers(Point(x, y))]
-        if inside:
-            groups[min(inside, key=lambda k: polys[k].area)].append(h)
-        else:
-            groups.setdefault(h, [])
+    if holes and outer:
+        polys = [Polygon(loops[k].sample(tol)) for k in outer]
+        tree = shapely.STRtree(polys)
+        starts = shapely.points([loops[h].pieces[0].start for h in holes])
+        pairs = tree.query(starts, predicate="within")          # (hole index, outer index)
+        best: dict[int, int] = {}
+        for i, j in zip(*pairs, strict=True):
+            if i not in best or polys[j].area < polys[best[i]].area:
+                best[i] = j
+        for i, h in enumerate(holes):
+            if i in best:
+                groups[outer[best[i]]].append(h)
+            else:
+                groups[h] = []
+    else:
+        groups.update({h: [] for h in holes})
     return list(groups.items())
 
 
