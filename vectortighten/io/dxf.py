@@ -545,6 +545,19 @@ def write_dxf(result, tmp: Path, layers, unit=None, meta=None, entities: str = "
         The tightening as LINE and ARC entities, or one closed LWPOLYLINE with bulges a loop. Either way a
         loop that is one full circle is a CIRCLE, and every arc has radius exactly r (in the output's
         units). Layer TIGHTENING.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, ezdxf
+    >>> from shapely.geometry import box
+    >>> from vectortighten import tighten
+    >>> T = tighten(box(0, 0, 40, 20), 3.0)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d) / "t.dxf"
+    ...     write_dxf(T, p, (), meta={"units": "mm"}, entities="lwpolyline")
+    ...     doc = ezdxf.readfile(p)
+    >>> doc.header["$INSUNITS"], [e.dxftype() for e in doc.modelspace()]
+    (4, ['LWPOLYLINE'])
     """
     ezdxf = _require("ezdxf", "dxf", "writing DXF")
     if entities not in DXF_ENTITIES:
