@@ -92,10 +92,27 @@ class Chain:
                 acc = cum[-1]
         return self.end
 
-    def bounds(self) -> tuple[float, float, float, float]:
-        boxes = [r.bounds if isinstance(r, Arc) else (*r.min(axis=0), *r.max(axis=0)) for r in self.runs]
-        b = np.array(boxes, dtype=float)
-        return float(b[:, 0].min()), float(b[:, 1].min()), float(b[:, 2].max()), float(b[:, 3].max())
+    def box(self) -> tuple[float, float, float, float]:
+        """A box around the outline, cheap and at most a little loose.
+
+        An arc of at most half a turn counts with its chord's box widened by its sagitta, a larger one with
+        its whole circle.
+        """
+        x0 = y0 = math.inf
+        x1 = y1 = -math.inf
+        for r in self.runs:
+            if isinstance(r, Arc):
+                if abs(r.sweep) <= math.pi:
+                    (sx, sy), (ex, ey) = r.start, r.end
+                    h = r.radius * (1.0 - math.cos(0.5 * r.sweep))
+                    bx0, by0, bx1, by1 = min(sx, ex) - h, min(sy, ey) - h, max(sx, ex) + h, max(sy, ey) + h
+                else:
+                    (cx, cy), rad = r.center, r.radius
+                    bx0, by0, bx1, by1 = cx - rad, cy - rad, cx + rad, cy + rad
+            else:
+                (bx0, by0), (bx1, by1) = r.min(axis=0), r.max(axis=0)
+            x0, y0, x1, y1 = min(x0, bx0), min(y0, by0), max(x1, bx1), max(y1, by1)
+        return float(x0), float(y0), float(x1), float(y1)
 
     def close(self, scale: float) -> Chain:
         """Make a closed outline of one whose ends meet within the gap: snap them (see `_snap`)."""
@@ -171,7 +188,7 @@ def drop_duplicates(chains: list[Chain], gap: float, closed: bool) -> tuple[list
     """Outlines drawn twice (within ``gap``) are kept once; returns ``(kept, dropped)``.
 
     Two open outlines are the same when their ends and midpoints agree within ``gap`` (either way round);
-    two closed ones when their bounding boxes agree within ``gap`` and they are within ``gap`` of each other
+    two closed ones when their boxes (`Chain.box`) agree within ``gap`` and they are within ``gap`` of each other
     (Hausdorff distance of their chords).
     """
     if len(chains) < 2:
@@ -179,7 +196,7 @@ def drop_duplicates(chains: list[Chain], gap: float, closed: bool) -> tuple[list
     from scipy.spatial import cKDTree
 
     if closed:
-        keys = np.array([c.bounds() for c in chains])
+        keys = np.array([c.box() for c in chains])
     else:
         ends = np.array([np.concatenate(sorted([tuple(c.start), tuple(c.end)])) for c in chains])
         keys = np.column_stack([ends, np.array([c.midpoint() for c in chains])])

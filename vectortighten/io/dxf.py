@@ -139,7 +139,7 @@ def read_dxf(path, *, layers=None, flatten: float | None = None, gap: float | No
             curved.append((e, layer, where))
         else:
             chains += _chains_of(e, layer, where, math.inf, name)
-    boxes = [c.bounds() for c in chains]
+    boxes = [c.box() for c in chains]
     if curved:
         ebbox = _require("ezdxf.bbox", "dxf", "reading DXF")
         box = ebbox.extents([e for e, _, _ in curved], fast=True)
