@@ -523,6 +523,15 @@ def text_of_path(path):
     return re.search(r'id="tightening" d="([^"]+)"', path.read_text()).group(1)
 
 
+def test_keep_style_without_styles_warns(plates, tmp_path, capsys):
+    path, s, _ = plates["mm"]
+    out = tmp_path / "p.svg"
+    assert main(["tighten", str(path), "-r", "2.5", "-o", str(out), "--keep-style"]) == 0
+    err = capsys.readouterr().err
+    assert "no styles to keep" in err and out.exists()
+    assert 'id="tightening"' in out.read_text()                     # the default drawing
+
+
 def test_unitless_inputs_give_unitless_dxf(tmp_path):
     wkt = tmp_path / "s.wkt"
     wkt.write_text("POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0))")

@@ -38,7 +38,7 @@ formats (by extension):
   in:  .svg (paths, curves, arcs, basic shapes, transforms, fill-rule nonzero/evenodd),
        .dxf (LINE, ARC, CIRCLE, LWPOLYLINE/POLYLINE with bulges, ELLIPSE, SPLINE, blocks),
        .wkt, .geojson/.json (geometry, Feature, FeatureCollection), .png (a mask: the pixel method)
-  out: .svg (exact arcs as A commands), .wkt, .geojson/.json, .dxf (LINE and ARC entities),
+  out: .svg (exact arcs as A commands), .wkt, .geojson/.json, .dxf (LINE and ARC, or LWPOLYLINE),
        .png (a picture; for a PNG input, the tightened mask)
 
 cut files (CNC, laser): a DXF, or an SVG whose shapes are all unfilled outlines, is read

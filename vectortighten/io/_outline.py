@@ -11,6 +11,7 @@ outlines themselves, oriented, are its exact boundary.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import shapely
@@ -306,7 +307,7 @@ def join(chains: list[Chain], gap: float, scale: float, name: str) -> list[Chain
     return out
 
 
-def assemble(closed: list[Chain], tol: float) -> tuple[Polygon | MultiPolygon, callable]:
+def assemble(closed: list[Chain], tol: float) -> tuple[Polygon | MultiPolygon, Callable]:
     """The even-odd region of closed outlines, and a function giving its exact boundary (or None).
 
     Parameters

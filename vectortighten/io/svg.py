@@ -993,7 +993,8 @@ def _tightening_body(result, layers, meta, keep_style, stroke_only, stroke, size
         if style_map is None:
             comp_style = None
         elif style_map.mode == "paint":
-            comp_style = style_map.of_region(Polygon(loops[outer].sample(tol)))
+            region = Polygon(loops[outer].sample(tol), [loops[k].sample(tol) for k in holes])
+            comp_style = style_map.of_region(region if region.is_valid else shapely.make_valid(region))
         else:
             comp_style = style_map.of_loop(loops[outer])
         if not stroke_only and comp_style is not None and _is_filled(comp_style):
