@@ -27,13 +27,16 @@ OX, OY = 1000.0, -500.0          # the part sits far from the origin
 BULGE_90 = math.tan(math.pi / 8)  # a quarter turn
 
 
-def plate_doc(s=1.0, insunits=4, ox=OX, oy=OY):
+def plate_doc(s=1.0, insunits=4, ox=OX, oy=OY, as_block=False):
     """An 80 × 50 plate (×s) with every entity type: an LWPOLYLINE outline with bulged corners (radius 6),
     two CIRCLE holes, a slot of loose LINEs and ARCs inside an INSERTed block, a POLYLINE hole with bulged
-    corners and an ELLIPSE hole."""
+    corners and an ELLIPSE hole. With ``as_block`` the whole plate is a block inserted at (ox, oy)."""
     doc = ezdxf.new("R2010")
     doc.header["$INSUNITS"] = insunits
     msp = doc.modelspace()
+    if as_block:
+        doc.modelspace().add_blockref("PLATE", (ox, oy), dxfattribs={"layer": "CUT"})
+        msp, ox, oy = doc.blocks.new("PLATE"), 0.0, 0.0
     b = BULGE_90
     outline = [(6, 0, 0), (74, 0, b), (80, 6, 0), (80, 44, b), (74, 50, 0), (6, 50, b), (0, 44, 0), (0, 6, b)]
     msp.add_lwpolyline([(ox + s * x, oy + s * y, bb) for x, y, bb in outline], format="xyb", close=True,
@@ -81,6 +84,9 @@ def plates(tmp_path_factory):
         path = d / f"plate_{unit}.dxf"
         plate_doc(s, code).saveas(path)
         out[unit] = (path, s, code)
+        path = d / f"plate_{unit}_block.dxf"
+        plate_doc(s, code, as_block=True).saveas(path)
+        out[f"{unit} block"] = (path, s, code)
     return out
 
 
@@ -94,9 +100,10 @@ def one_error_line(capsys):
 # ---------------------------------------------------------------------------------------------------------
 # Reading
 # ---------------------------------------------------------------------------------------------------------
-@pytest.mark.parametrize("unit", ["mm", "in"])
+@pytest.mark.parametrize("unit", ["mm", "in", "mm block", "in block"])
 def test_plate_of_every_entity_type(plates, unit):
     path, s, code = plates[unit]
+    unit = unit.split()[0]
     flatten = 1e-4 * s
     src = io.read_source(path, flatten=flatten)
     exact = plate_exact(s)
