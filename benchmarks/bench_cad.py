@@ -55,7 +55,8 @@ def sheet_dxf(n: int, path: Path) -> None:
     cols = max(1, int(math.sqrt(n)))
     for k in range(n):
         ox, oy = 100.0 * (k % cols), 70.0 * (k // cols)
-        outline = [(6, 0, 0), (74, 0, b), (80, 6, 0), (80, 44, b), (74, 50, 0), (6, 50, b), (0, 44, 0), (0, 6, b)]
+        outline = [(6, 0, 0), (74, 0, b), (80, 6, 0), (80, 44, b), (74, 50, 0), (6, 50, b), (0, 44, 0),
+                   (0, 6, b)]
         msp.add_lwpolyline([(ox + x, oy + y, bb) for x, y, bb in outline], format="xyb", close=True)
         msp.add_circle((ox + 12, oy + 12), 4)
         msp.add_circle((ox + 68, oy + 38), 4)
@@ -69,7 +70,8 @@ def sheet_svg(n: int) -> bytes:
     for k in range(n):
         ox, oy = 100.0 * (k % cols), 70.0 * (k // cols)
         parts.append(f'<rect x="{ox}" y="{oy}" width="80" height="50" rx="6"/>'
-                     f'<circle cx="{ox + 12}" cy="{oy + 12}" r="4"/><circle cx="{ox + 68}" cy="{oy + 38}" r="4"/>'
+                     f'<circle cx="{ox + 12}" cy="{oy + 12}" r="4"/>'
+                     f'<circle cx="{ox + 68}" cy="{oy + 38}" r="4"/>'
                      f'<path d="M {ox + 30} {oy + 21} H {ox + 50}"/>'
                      f'<path d="M {ox + 50} {oy + 21} A 4 4 0 0 1 {ox + 50} {oy + 29}"/>'
                      f'<path d="M {ox + 50} {oy + 29} H {ox + 30}"/>'
@@ -93,6 +95,64 @@ def medians(candidate, baseline, repeats: int) -> tuple[float, float]:
     return statistics.median(a), statistics.median(b)
 
 
+def run_size(n: int, d: Path, repeats: int) -> list[tuple]:
+    """The table's rows for a sheet of ``n`` plates."""
+    rows = []
+    dxf_path = d / f"sheet{n}.dxf"
+    sheet_dxf(n, dxf_path)
+    data = sheet_svg(n)
+
+    def read_dxf():
+        src = io.read_dxf(dxf_path)
+        assert len(shapely.get_parts(src.shape)) == n
+        return src
+
+    def read_dxf_loops():
+        assert len(read_dxf().loops) == 4 * n
+
+    def parse_dxf():
+        list(ezdxf.readfile(dxf_path).modelspace())
+
+    for task, fn in (("DXF read (shape)", read_dxf), ("DXF read (shape and exact loops)", read_dxf_loops)):
+        t, base = medians(fn, parse_dxf, repeats)
+        rows.append((task, n, 4 * n, base, t))
+
+    def read_svg():
+        src = io.load_svg(data)
+        assert len(shapely.get_parts(src.shape)) == n
+        return src
+
+    def read_svg_loops():
+        assert len(read_svg().loops) == 4 * n
+
+    def parse_svg():
+        list(svgelements.SVG.parse(stdio.BytesIO(data), reify=False).elements())
+
+    for task, fn in (("SVG cut read (shape)", read_svg),
+                     ("SVG cut read (shape and exact loops)", read_svg_loops)):
+        t, base = medians(fn, parse_svg, repeats)
+        rows.append((task, n, 4 * n, base, t))
+
+    src = io.read_dxf(dxf_path)
+    T = vt.tighten(src.shape, 2.0)
+    rings = [lp.sample(T.tolerance) for lp in T.loops]
+
+    def baseline_write():
+        doc = ezdxf.new("R2010")
+        msp = doc.modelspace()
+        for ring in rings:
+            msp.add_lwpolyline(np.asarray(ring)[:-1], close=True)
+        doc.saveas(d / "base.dxf")
+
+    for entities in ("lines-arcs", "lwpolyline"):
+        def write(entities=entities):
+            io.write_result(T, d / "out.dxf", meta=src.meta, dxf_entities=entities)
+
+        t, base = medians(write, baseline_write, repeats)
+        rows.append((f"DXF write ({entities})", n, len(T.loops), base, t))
+    return rows
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[10, 100, 1000])
@@ -100,60 +160,8 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     rows = []
     with tempfile.TemporaryDirectory() as d:
-        d = Path(d)
         for n in args.sizes:
-            dxf_path = d / f"sheet{n}.dxf"
-            sheet_dxf(n, dxf_path)
-            data = sheet_svg(n)
-
-            def read_dxf(p=dxf_path):
-                src = io.read_dxf(p)
-                assert len(shapely.get_parts(src.shape)) == n
-                return src
-
-            def read_dxf_loops(p=dxf_path):
-                assert len(read_dxf(p).loops) == 4 * n
-
-            def parse_dxf(p=dxf_path):
-                list(ezdxf.readfile(p).modelspace())
-
-            for task, fn in (("DXF read (shape)", read_dxf), ("DXF read (shape and exact loops)", read_dxf_loops)):
-                t, base = medians(fn, parse_dxf, args.repeats)
-                rows.append((task, n, 4 * n, base, t))
-
-            def read_svg(data=data):
-                src = io.load_svg(data)
-                assert len(shapely.get_parts(src.shape)) == n
-                return src
-
-            def read_svg_loops(data=data):
-                assert len(read_svg(data).loops) == 4 * n
-
-            def parse_svg(data=data):
-                list(svgelements.SVG.parse(stdio.BytesIO(data), reify=False).elements())
-
-            for task, fn in (("SVG cut read (shape)", read_svg), ("SVG cut read (shape and exact loops)",
-                                                                   read_svg_loops)):
-                t, base = medians(fn, parse_svg, args.repeats)
-                rows.append((task, n, 4 * n, base, t))
-
-            T = vt.tighten(io.read_dxf(dxf_path).shape, 2.0)
-            src_meta = io.read_dxf(dxf_path).meta
-            rings = [lp.sample(T.tolerance) for lp in T.loops]
-
-            def baseline_write():
-                doc = ezdxf.new("R2010")
-                msp = doc.modelspace()
-                for ring in rings:
-                    msp.add_lwpolyline(np.asarray(ring)[:-1], close=True)
-                doc.saveas(d / "base.dxf")
-
-            for entities in ("lines-arcs", "lwpolyline"):
-                def write(entities=entities):
-                    io.write_result(T, d / "out.dxf", meta=src_meta, dxf_entities=entities)
-
-                t, base = medians(write, baseline_write, args.repeats)
-                rows.append((f"DXF write ({entities})", n, len(T.loops), base, t))
+            rows += run_size(n, Path(d), args.repeats)
             print(f"n = {n} done", file=sys.stderr)
     lines = [
         "| task | plates | loops | baseline (s) | vectortighten (s) | ratio |",

@@ -189,7 +189,8 @@ def drop_duplicates(chains: list[Chain], gap: float, closed: bool) -> tuple[list
     """Outlines drawn twice (within ``gap``) are kept once; returns ``(kept, dropped)``.
 
     Two open outlines are the same when their ends and midpoints agree within ``gap`` (either way round);
-    two closed ones when their boxes (`Chain.box`) agree within ``gap`` and they are within ``gap`` of each other
+    two closed ones when their boxes (`Chain.box`) agree within ``gap`` and they are within ``gap`` of each
+    other
     (Hausdorff distance of their chords).
     """
     if len(chains) < 2:

@@ -625,7 +625,8 @@ def _load_svg(data: bytes, name: str, flatten: float | None, nesting: str, gap: 
         return _load_svg_checked(data, name, flatten, nesting, gap)
 
 
-def _load_svg_checked(data: bytes, name: str, flatten: float | None, nesting: str, gap: float | None) -> Source:
+def _load_svg_checked(data: bytes, name: str, flatten: float | None, nesting: str,
+                      gap: float | None) -> Source:
     shapes, root, se = _parse_shapes(data, name)
     if not shapes:
         raise InvalidGeometryError(f"{name}: no shapes found in the SVG")
