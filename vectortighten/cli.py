@@ -36,9 +36,10 @@ examples:
 _EPILOG_TIGHTEN = """\
 formats (by extension):
   in:  .svg (paths, curves, arcs, basic shapes, transforms, fill-rule nonzero/evenodd),
+       .dxf (LINE, ARC, CIRCLE, LWPOLYLINE/POLYLINE with bulges, ELLIPSE, SPLINE, blocks),
        .wkt, .geojson/.json (geometry, Feature, FeatureCollection),
        .png .tif .tiff .bmp .gif .jpg (a mask or label image)
-  out: .svg (exact arcs as A commands), .wkt, .geojson/.json, .dxf (LINE and ARC entities),
+  out: .svg (exact arcs as A commands), .wkt, .geojson/.json, .dxf (LINE and ARC, or LWPOLYLINE),
        .png (a picture; for an image input, the tightened mask), .tif .bmp (image inputs)
 
 masks and label images (the pixel method; r in pixels):
@@ -50,6 +51,13 @@ masks and label images (the pixel method; r in pixels):
   traces the mask: --trace exact (default) tightens its pixel squares exactly (true arcs),
   --trace contours writes the pixel method's sub-pixel contour. Pixel coordinates:
   x = column, y = -row (SVG: y = row). --labels to .geojson: one feature a label.
+
+cut files (CNC, laser): a DXF, or an SVG whose shapes are all unfilled outlines, is read
+as a cut file: closed outlines nest even-odd (a circle inside the plate is a hole), loose
+LINE/ARC pieces are joined end to end within --gap. A DXF output is written in the input's
+units and at its position ($INSUNITS of a DXF input; an SVG in mm gives mm; an SVG placed
+y up with its page's bottom-left corner at the origin, as Inkscape exports it; unitless
+input gives $INSUNITS 0). An SVG output keeps an SVG input's page (width, height, viewBox).
 
 SVG coordinates are the drawing's user units (R is in them too); an SVG whose root says
 width="210mm" viewBox="0 0 210 297" is in mm, and SVG and DXF outputs say so again.
@@ -66,6 +74,9 @@ examples:
   vectortighten tighten a.svg b.wkt c.geojson -r 1 -o out/ --format svg
   vectortighten tighten drawings/ -r 1 -o out/ --jobs 4 --progress
   vectortighten tighten mask.png -r 8 -o tight.png
+  vectortighten tighten part.dxf -r 3 -o part-tight.dxf --layer CUT --dxf-entities lwpolyline
+  vectortighten tighten cut.svg -r 0.5 -o cut-tight.svg --stroke-only
+  vectortighten tighten art.svg -r 1 -o art-tight.svg --keep-style --nesting paint
   vectortighten tighten labels.tif -r 6 --labels -o tight.tif
   vectortighten tighten photo.jpg -r 8 --threshold 0.6 -o tight.png
   vectortighten tighten mask.png -r 8 -o tight.svg --trace exact
@@ -147,6 +158,23 @@ def _layers(text: str) -> tuple[str, ...]:
     return names
 
 
+def _names(text: str) -> list[str]:
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    if not names:
+        raise argparse.ArgumentTypeError(f"expected one or more names, got {text!r}")
+    return names
+
+
+def _nonnegative_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not math.isfinite(value) or value < 0:
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text}")
+    return value
+
+
 def _format(text: str) -> str:
     ext = "." + text.lower().lstrip(".")
     known = _VECTOR_OUT + tuple(e for e in _MASK_OUT if e not in _VECTOR_OUT)
@@ -197,8 +225,8 @@ def _add_tighten(sub) -> None:
         epilog=_EPILOG_TIGHTEN, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     tight.add_argument("inputs", type=Path, nargs="+", metavar="IN",
-                       help="input file(s) or a folder of them (.svg, .wkt, .geojson, .json; images: "
-                            ".png, .tif, .bmp, .gif, .jpg)")
+                       help="input file(s) or a folder of them (.svg, .dxf, .wkt, .geojson, .json; "
+                            "images: .png, .tif, .bmp, .gif, .jpg)")
     tight.add_argument("-r", "--radius", type=_positive_float, required=True, metavar="R",
                        help="the tightening radius, in the input's units (pixels for an image)")
     tight.add_argument("-o", "--output", type=Path, required=True, metavar="OUT",
@@ -209,7 +237,7 @@ def _add_tighten(sub) -> None:
                        help="largest distance between an arc and its chords in sampled outputs "
                             "(WKT, GeoJSON, PNG; default 1e-5·R)")
     tight.add_argument("--flatten", type=_positive_float, default=None, metavar="F",
-                       help="SVG input: largest distance between a curve and its chords "
+                       help="SVG and DXF input: largest distance between a curve and its chords "
                             "(default 1e-4 of the drawing's diagonal)")
     tight.add_argument("--format", type=_format, default=None, metavar="EXT",
                        help="output format for a folder OUT: svg, wkt, geojson, json, dxf, png, tif or "
@@ -232,6 +260,26 @@ def _add_tighten(sub) -> None:
     tight.add_argument("--trace", choices=("exact", "contours"), default="exact",
                        help="image input, vector output: exact = tighten the pixel squares exactly (arcs of "
                             "radius R; default), contours = the pixel method's sub-pixel contour")
+    cad = tight.add_argument_group("CAD and cut files")
+    cad.add_argument("--layer", type=_names, action="extend", default=None, metavar="NAME[,NAME]",
+                     help="DXF input: read only entities on these layers (case-insensitive; repeatable; "
+                          "default: every layer that is on and thawed)")
+    cad.add_argument("--nesting", choices=("auto", "evenodd", "paint"), default=None,
+                     help="SVG input: evenodd reads every outline as a cut line, nested across elements "
+                          "(holes drawn as separate elements stay holes); paint fills shapes in painting "
+                          "order, a shape in the background colour erasing; auto (default) is evenodd "
+                          "when no shape is filled, else paint")
+    cad.add_argument("--gap", type=_nonnegative_float, default=None, metavar="G",
+                     help="SVG and DXF input: loose ends nearer than G join into one outline, in the "
+                          "drawing's units (default 1e-6 of its diagonal)")
+    cad.add_argument("--dxf-entities", choices=("lines-arcs", "lwpolyline"), default=None,
+                     help="DXF output: LINE and ARC entities (default), or one closed LWPOLYLINE with "
+                          "bulges per loop (what many CAM programs prefer); full circles are CIRCLEs")
+    cad.add_argument("--keep-style", action="store_true",
+                     help="SVG output: give each part the style of the input element it comes from")
+    cad.add_argument("--stroke-only", action="store_true",
+                     help="SVG output: outlines only (fill none, one element per loop, full circles as "
+                          "<circle>), a red hairline stroke unless --keep-style keeps the element's")
     tight.add_argument("-j", "--jobs", type=_positive_int, default=None, metavar="N",
                        help="processes for several inputs (default: all cores)")
     tight.add_argument("--progress", action="store_true",
@@ -254,6 +302,8 @@ class _Task:
     labels: bool = False
     stack: bool = False
     trace: str = "exact"
+    read_options: tuple = ()      # (name, value) pairs for the input format's reader (`Format.read_options`)
+    write_options: tuple = ()     # (name, value) pairs for the output format's writer
 
 
 @dataclass
@@ -321,12 +371,15 @@ def _tighten_file(task: _Task) -> str:
             labels=task.labels, stack=task.stack, trace=task.trace, tolerance=task.tolerance, layers=task.layers)
     from .engine import tighten
 
-    shape = io.read_shape(task.source, flatten=task.flatten)
-    unit = io.svg_unit(task.source) if task.source.suffix.lower() == ".svg" else None
-    result = tighten(shape, task.r, init=task.init, tolerance=task.tolerance)
+    fmt_in, fmt_out = io.format_of(task.source), io.format_of(task.target)
+    source = io.read_source(task.source, flatten=task.flatten,
+                            **{k: v for k, v in task.read_options if k in fmt_in.read_options})
+    result = tighten(source.shape, task.r, init=task.init, tolerance=task.tolerance)
     if result.is_empty:
         warnings.warn(f"the tightening is empty: every part is thinner than 2r = {2 * task.r:g}", UserWarning)
-    io.write_result(result, task.target, layers=task.layers, unit=unit)
+    # The input's frame (units, position, page, styles) travels to the writer in the source's meta.
+    io.write_result(result, task.target, layers=task.layers, meta=source.meta,
+                    **{k: v for k, v in task.write_options if k in fmt_out.write_options})
     return (f"{task.target}: perimeter {result.perimeter:.6g}, area {result.area:.6g}, "
             f"{result.n_components} component(s), {result.n_holes} hole(s)")
 
@@ -369,11 +422,12 @@ def _plan(args) -> tuple[list[_Task], bool]:
     opts = dict(r=args.radius, init=args.init, tolerance=args.tolerance, flatten=args.flatten,
                 layers=args.layers, threshold=args.threshold, invert=args.invert, labels=args.labels,
                 stack=args.stack, trace=args.trace)
-    image_only = [name for name, on in (("--threshold", args.threshold is not None), ("--invert", args.invert),
-                                        ("--labels", args.labels), ("--stack", args.stack),
-                                        ("--trace", args.trace != "exact")) if on]
+    image_only = [name for name, on in (("--threshold", args.threshold is not None),
+                                        ("--invert", args.invert), ("--labels", args.labels),
+                                        ("--stack", args.stack), ("--trace", args.trace != "exact")) if on]
     if image_only and not any(f.suffix.lower() in _MASK_IN for f in files):
         raise UsageError(f"{image_only[0]} is for image inputs ({', '.join(_MASK_IN)})")
+    cad = _cad_options(args)
     if batch:
         if out.exists() and not out.is_dir():
             raise UsageError(f"{str(out)!r} exists and is not a folder")
@@ -407,10 +461,53 @@ def _plan(args) -> tuple[list[_Task], bool]:
         if rt in seen:
             raise UsageError(f"{str(seen[rt])!r} and {str(f)!r} would both be written to {str(t)!r}")
         seen[rt] = f
-        tasks.append(_Task(f, t, **opts))
+        tasks.append(_Task(f, t, **opts, **cad))
+    _check_cad_options(args, tasks)
     if batch:
         _out_folder(out)
     return tasks, batch
+
+
+# Options of the CAD and cut-file group: (attribute, option, reader or writer keyword, input or output).
+_CAD_OPTIONS = (("layer", "--layer", "layers", "input"), ("nesting", "--nesting", "nesting", "input"),
+                ("gap", "--gap", "gap", "input"),
+                ("dxf_entities", "--dxf-entities", "dxf_entities", "output"),
+                ("keep_style", "--keep-style", "keep_style", "output"),
+                ("stroke_only", "--stroke-only", "stroke_only", "output"))
+
+
+def _cad_options(args) -> dict:
+    read, write = [], []
+    for attr, _, key, side in _CAD_OPTIONS:
+        value = getattr(args, attr, None)
+        if value is None or value is False:
+            continue
+        (read if side == "input" else write).append((key, tuple(value) if isinstance(value, list) else value))
+    return {"read_options": tuple(read), "write_options": tuple(write)}
+
+
+def _check_cad_options(args, tasks) -> None:
+    """Refuse an option that applies to none of the inputs (or outputs) of the run."""
+    from . import io
+
+    def fmt(path):
+        try:
+            return io.format_of(path)
+        except ValueError:
+            return None
+
+    for attr, option, key, side in _CAD_OPTIONS:
+        value = getattr(args, attr, None)
+        if value is None or value is False:
+            continue
+        formats = [fmt(t.source if side == "input" else t.target) for t in tasks]
+        takes = [f for f in formats if f is not None
+                 and key in (f.read_options if side == "input" else f.write_options)]
+        if not takes:
+            owners = " and ".join(f.name.upper() for f in io.FORMATS.values()
+                                  if key in (f.read_options if side == "input" else f.write_options))
+            what = "inputs" if side == "input" else "outputs"
+            raise UsageError(f"{option} applies to {owners} {side} only, and none of the {what} is")
 
 
 def _same_file(a: Path, b: Path) -> bool:

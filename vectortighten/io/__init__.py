@@ -9,8 +9,15 @@ Every writer goes through `atomic_write` or `atomic_path`: the output is written
 the same folder and renamed over the target only when complete, so a failed run leaves no partial file
 and an existing output untouched.
 
-Optional packages (svgelements and defusedxml for SVG, ezdxf for DXF) are imported only when a file of
-theirs is met; without them a `MissingDependencyError` names the extra to install.
+A reader can also hand over what must travel to the writer: `read_source` gives a `Source` (the shape,
+its exact boundary as `Loop`s where the file has one, and ``meta``: units, page, position, styles), and
+``write_result(..., meta=source.meta)`` puts the result back in the input's frame (a DXF in the input's
+``$INSUNITS`` at its coordinates, an SVG on the input's page). Options that only some formats take are
+declared in their `Format` (``read_options``, ``write_options``) and refused elsewhere.
+
+Optional packages (svgelements and defusedxml for SVG, ezdxf for DXF and for joining an SVG's loose
+outlines) are imported only when a file of theirs is met; without them a `MissingDependencyError` names
+the extra to install.
 """
 
 from __future__ import annotations
@@ -24,23 +31,35 @@ from shapely.geometry import MultiPolygon, Polygon
 from . import dxf, geo, picture, svg
 from ._common import LAYERS, MissingDependencyError, _check_layers, _polygonal, atomic_path, atomic_write
 from ._fill import fill_rings
+from ._outline import DEFAULT_GAP
+from ._source import INSUNITS, MM_PER_UNIT, Source
+from .dxf import DXF_ENTITIES, read_dxf
 from .mask import read_mask, tighten_image_file, trace_tighten, write_mask
-from .svg import DEFAULT_FLATTEN, read_svg, svg_document, svg_unit
+from .svg import DEFAULT_FLATTEN, NESTINGS, load_svg, read_svg, svg_document, svg_unit
 
 __all__ = [
     "DEFAULT_FLATTEN",
+    "DEFAULT_GAP",
+    "DXF_ENTITIES",
     "FORMATS",
+    "INSUNITS",
     "LAYERS",
+    "MM_PER_UNIT",
+    "NESTINGS",
     "READ_FORMATS",
     "WRITE_FORMATS",
     "Format",
     "MissingDependencyError",
+    "Source",
     "atomic_path",
     "atomic_write",
     "fill_rings",
     "format_of",
+    "load_svg",
+    "read_dxf",
     "read_mask",
     "read_shape",
+    "read_source",
     "read_svg",
     "svg_document",
     "svg_unit",
@@ -62,11 +81,15 @@ class Format:
     extensions : tuple of str
         Lower-case, with the dot; the first is the one an output is named with.
     read : callable or None
-        ``read(path, **options) -> Polygon | MultiPolygon`` for a vector format; None if not readable.
+        ``read(path, *, flatten, **read_options) -> Source`` for a vector format (a reader may also return
+        a bare Polygon or MultiPolygon, which `read_source` wraps); None if not readable.
     write : callable or None
-        ``write(result, path, *, layers, unit)``, atomic; None if not writable.
+        ``write(result, path, *, layers, unit, meta, **write_options)``, atomic; None if not writable.
     kind : {"vector", "mask"}
         A vector format holds shapes for the exact engine; a mask format holds images for the pixel method.
+    read_options, write_options : tuple of str
+        The keyword options only this format's reader or writer takes (e.g. ``"layers"`` for DXF input,
+        ``"keep_style"`` for SVG output); `read_source` and `write_result` refuse them for other formats.
     """
 
     name: str
@@ -74,22 +97,27 @@ class Format:
     read: Callable | None
     write: Callable | None
     kind: str = "vector"
+    read_options: tuple[str, ...] = ()
+    write_options: tuple[str, ...] = ()
 
 
 def _write_text(text_of: Callable) -> Callable:
-    def write(result, path, *, layers=(), unit=None):
+    def write(result, path, *, layers=(), unit=None, meta=None, **options):
         with atomic_write(path) as f:
-            f.write(text_of(result, layers=layers, unit=unit))
+            f.write(text_of(result, layers=layers, unit=unit, meta=meta, **options))
     return write
 
 
-def _write_dxf(result, path, *, layers=(), unit=None):
+def _write_dxf(result, path, *, layers=(), unit=None, meta=None, dxf_entities="lines-arcs"):
     dxf._require("ezdxf", "dxf", "writing DXF")
+    if dxf_entities not in DXF_ENTITIES:
+        raise ValueError(f"dxf_entities must be one of {', '.join(DXF_ENTITIES)}, got {dxf_entities!r}")
     with atomic_path(path) as tmp:
-        dxf.write_dxf(result, tmp, layers, unit)          # looked up when called (tests replace it)
+        # looked up when called (tests replace it)
+        dxf.write_dxf(result, tmp, layers, unit, meta, dxf_entities)
 
 
-def _write_picture(result, path, *, layers=(), unit=None):
+def _write_picture(result, path, *, layers=(), unit=None, meta=None):
     with atomic_write(path, "wb") as f:
         picture.write_picture(result, f, layers)
 
@@ -100,16 +128,26 @@ def _read_geometry(reader: Callable) -> Callable:
     return read
 
 
+def _read_svg(path, flatten=None, **options) -> Source:
+    return load_svg(path, flatten=flatten, **options)
+
+
+def _read_dxf(path, flatten=None, **options) -> Source:
+    return dxf.read_dxf(path, flatten=flatten, **options)
+
+
 #: Every format, by name. A mask format (PNG, TIFF, BMP, GIF, JPEG) is read by `read_mask` or
 #: `tighten_image_file`; a vector result is drawn into a PNG.
 FORMATS: dict[str, Format] = {
-    "svg": Format("svg", (".svg",), lambda path, flatten=None, **_: read_svg(path, flatten=flatten),
-                  _write_text(lambda result, **kw: svg.svg_document(result, **kw))),
+    "svg": Format("svg", (".svg",), _read_svg,
+                  _write_text(lambda result, meta=None, **kw: svg.svg_document(result, meta=meta, **kw)),
+                  read_options=("nesting", "gap"), write_options=("keep_style", "stroke_only")),
     "wkt": Format("wkt", (".wkt",), _read_geometry(geo.read_wkt),
                   _write_text(lambda result, **_: geo.wkt_text(result))),
     "geojson": Format("geojson", (".geojson", ".json"), _read_geometry(geo.read_geojson),
                       _write_text(lambda result, **_: geo.geojson_text(result))),
-    "dxf": Format("dxf", (".dxf",), None, _write_dxf),
+    "dxf": Format("dxf", (".dxf",), _read_dxf, _write_dxf, read_options=("layers", "gap"),
+                  write_options=("dxf_entities",)),
     "png": Format("png", (".png",), None, _write_picture, kind="mask"),
     "tiff": Format("tiff", (".tif", ".tiff"), None, None, kind="mask"),
     "bmp": Format("bmp", (".bmp",), None, None, kind="mask"),
@@ -151,19 +189,98 @@ def format_of(path, format: str | None = None) -> Format:
                      f"{', '.join(e for f in FORMATS.values() for e in f.extensions)}")
 
 
-def read_shape(path, *, flatten: float | None = None, format: str | None = None) -> Polygon | MultiPolygon:
-    """Read a polygonal shape from a vector file (SVG, WKT, GeoJSON).
+def _check_options(fmt: Format, options: dict, allowed: tuple[str, ...], what: str) -> None:
+    bad = sorted(k for k in options if k not in allowed)
+    if bad:
+        def options_of(f):
+            return f.read_options if what == "input" else f.write_options
+
+        takes = {k for f in FORMATS.values() for k in options_of(f)}
+        key = bad[0]
+        if key in takes:
+            owners = [f.name.upper() for f in FORMATS.values() if key in options_of(f)]
+            raise ValueError(f"{key} is an option of {' and '.join(owners)} {what}, not {fmt.name.upper()}")
+        raise TypeError(f"unknown {what} option {key!r}")
+
+
+def read_source(path, *, flatten: float | None = None, format: str | None = None, **options) -> Source:
+    """Read a vector file into a `Source`: the shape, its exact boundary and what travels to the writer.
 
     Parameters
     ----------
     path : str or Path
-        ``.svg``, ``.wkt``, ``.geojson`` or ``.json``. GeoJSON may be a bare geometry, a Feature or a
-        FeatureCollection; all polygons are united.
+        ``.svg``, ``.dxf``, ``.wkt``, ``.geojson`` or ``.json``.
     flatten : float, optional
-        SVG only: largest distance between a curve and its chords, in the drawing's user units. Default
+        SVG and DXF: largest distance between a curve and its chords, in the drawing's units. Default
         `DEFAULT_FLATTEN` times the diagonal of the drawing.
     format : str, optional
         The format's name (see `FORMATS`), when the extension does not tell.
+    **options
+        Options of the format's reader (its `Format.read_options`): SVG ``nesting`` (see `load_svg`) and
+        ``gap``; DXF ``layers`` and ``gap`` (see `read_dxf`).
+
+    Returns
+    -------
+    Source
+        ``shape``, ``loops`` (None where the reader keeps no exact boundary) and ``meta``.
+
+    Raises
+    ------
+    InvalidGeometryError, GeometryTypeError, OSError
+        As `read_shape`.
+    ValueError
+        An option of another format.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d) / "s.svg"
+    ...     _ = p.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="40mm" height="20mm" '
+    ...                      'viewBox="0 0 40 20"><rect width="40" height="20" fill="none" stroke="red"/>'
+    ...                      '<circle cx="10" cy="10" r="4" fill="none" stroke="red"/></svg>')
+    ...     src = read_source(p)
+    >>> src.units, src.meta["nesting"], len(src.loops), round(sum(lp.area for lp in src.loops), 6)
+    ('mm', 'evenodd', 2, 749.734518)
+    """
+    path = Path(path)
+    try:
+        fmt = format_of(path, format)
+    except ValueError:
+        if format is not None:
+            raise
+        raise ValueError(f"{path}: unsupported input format {path.suffix.lower() or '(none)'!r}; "
+                         f"expected one of {', '.join(READ_FORMATS + _MASK_IN)}") from None
+    if fmt.kind == "mask":
+        raise ValueError(f"{path}: a {fmt.name.upper()} is a mask for the pixel method; "
+                         "read it with read_mask")
+    if fmt.read is None:
+        raise ValueError(f"{path}: {fmt.name.upper()} files cannot be read yet; "
+                         f"expected one of {', '.join(READ_FORMATS + _MASK_IN)}")
+    _check_options(fmt, options, fmt.read_options, "input")
+    got = fmt.read(path, flatten=flatten, **options)
+    if isinstance(got, Source):
+        got.meta.setdefault("format", fmt.name)
+        return got
+    return Source(got, {"format": fmt.name})
+
+
+def read_shape(path, *, flatten: float | None = None, format: str | None = None,
+               **options) -> Polygon | MultiPolygon:
+    """Read a polygonal shape from a vector file (SVG, DXF, WKT, GeoJSON): ``read_source(...).shape``.
+
+    Parameters
+    ----------
+    path : str or Path
+        ``.svg``, ``.dxf``, ``.wkt``, ``.geojson`` or ``.json``. GeoJSON may be a bare geometry, a Feature
+        or a FeatureCollection; all polygons are united.
+    flatten : float, optional
+        SVG and DXF: largest distance between a curve and its chords, in the drawing's units. Default
+        `DEFAULT_FLATTEN` times the diagonal of the drawing.
+    format : str, optional
+        The format's name (see `FORMATS`), when the extension does not tell.
+    **options
+        The format's reader options (see `read_source`).
 
     Returns
     -------
@@ -188,24 +305,11 @@ def read_shape(path, *, flatten: float | None = None, format: str | None = None)
     ...     read_shape(p).area
     16.0
     """
-    path = Path(path)
-    try:
-        fmt = format_of(path, format)
-    except ValueError:
-        if format is not None:
-            raise
-        raise ValueError(f"{path}: unsupported input format {path.suffix.lower() or '(none)'!r}; "
-                         f"expected one of {', '.join(READ_FORMATS + _MASK_IN)}") from None
-    if fmt.kind == "mask":
-        raise ValueError(f"{path}: a {fmt.name.upper()} is a mask for the pixel method; "
-                         "read it with read_mask")
-    if fmt.read is None:
-        raise ValueError(f"{path}: {fmt.name.upper()} files cannot be read yet; "
-                         f"expected one of {', '.join(READ_FORMATS + _MASK_IN)}")
-    return fmt.read(path, flatten=flatten)
+    return read_source(path, flatten=flatten, format=format, **options).shape
 
 
-def write_result(result, path, *, layers=(), unit: str | None = None, format: str | None = None) -> None:
+def write_result(result, path, *, layers=(), unit: str | None = None, format: str | None = None,
+                 meta: dict | None = None, **options) -> None:
     """Write a `Tightening` to ``path``, format by extension (or ``format``), atomically.
 
     Parameters
@@ -219,15 +323,24 @@ def write_result(result, path, *, layers=(), unit: str | None = None, format: st
     layers : iterable of {"input", "core", "mortar"}
         SVG, DXF and PNG: also draw these, each in its own layer.
     unit : {"mm", "cm", "in", "pt", "pc", "px"}, optional
-        SVG: the document's ``width`` and ``height`` in this unit (true size); DXF: ``$INSUNITS`` (mm, cm
-        and in only). Typically `svg_unit` of the input.
+        The physical unit of the coordinates, when ``meta`` does not give it. SVG: the document's
+        ``width`` and ``height`` in this unit (true size); DXF: ``$INSUNITS`` (mm, cm and in as they are;
+        px, pt and pc converted to mm). Without either, a DXF is unitless (``$INSUNITS = 0``).
     format : str, optional
         The format's name (see `FORMATS`), when the extension does not tell.
+    meta : dict, optional
+        The `Source.meta` of the input (`read_source`): a DXF is written in the input's units and at its
+        position (an SVG input mapped as Inkscape's DXF export maps it: y up, the page's bottom-left corner
+        at the origin); an SVG keeps the input's page (``width``, ``height``, ``viewBox``).
+    **options
+        Options of the output format's writer: DXF ``dxf_entities`` (``"lines-arcs"`` or
+        ``"lwpolyline"``, see `vectortighten.io.dxf.write_dxf`); SVG ``keep_style`` and ``stroke_only``
+        (see `svg_document`).
 
     Raises
     ------
     ValueError
-        Unsupported extension or unknown layer.
+        Unsupported extension, unknown layer, or an option of another format.
     FileNotFoundError
         The output folder does not exist.
     """
@@ -243,4 +356,5 @@ def write_result(result, path, *, layers=(), unit: str | None = None, format: st
                          f"expected one of {', '.join(WRITE_FORMATS)}")
     layers = _check_layers(layers)
     svg._check_unit(unit)
-    fmt.write(result, path, layers=layers, unit=unit)
+    _check_options(fmt, options, fmt.write_options, "output")
+    fmt.write(result, path, layers=layers, unit=unit, meta=meta, **options)
