@@ -37,9 +37,20 @@ _EPILOG_TIGHTEN = """\
 formats (by extension):
   in:  .svg (paths, curves, arcs, basic shapes, transforms, fill-rule nonzero/evenodd),
        .dxf (LINE, ARC, CIRCLE, LWPOLYLINE/POLYLINE with bulges, ELLIPSE, SPLINE, blocks),
-       .wkt, .geojson/.json (geometry, Feature, FeatureCollection), .png (a mask: the pixel method)
+       .wkt, .geojson/.json (geometry, Feature, FeatureCollection),
+       .png .tif .tiff .bmp .gif .jpg (a mask or label image)
   out: .svg (exact arcs as A commands), .wkt, .geojson/.json, .dxf (LINE and ARC, or LWPOLYLINE),
-       .png (a picture; for a PNG input, the tightened mask)
+       .png (a picture; for an image input, the tightened mask), .tif .bmp (image inputs)
+
+masks and label images (the pixel method; r in pixels):
+  any non-zero pixel is inside (0/1, 0/255, 0/65535, bool); --threshold V reads a greyscale
+  or colour photo (inside where value/full scale >= V). The output image keeps the input's
+  size, dtype and values. --labels tightens every label of a label image (0 = background).
+  A multi-page TIFF is refused unless --stack (each slice on its own). Images of more than
+  8192 x 8192 pixels (all pages counted) are refused. A vector output (.svg, .dxf, ...)
+  traces the mask: --trace exact (default) tightens its pixel squares exactly (true arcs),
+  --trace contours writes the pixel method's sub-pixel contour. Pixel coordinates:
+  x = column, y = -row (SVG: y = row). --labels to .geojson: one feature a label.
 
 cut files (CNC, laser): a DXF, or an SVG whose shapes are all unfilled outlines, is read
 as a cut file: closed outlines nest even-odd (a circle inside the plate is a hole), loose
@@ -66,6 +77,9 @@ examples:
   vectortighten tighten part.dxf -r 3 -o part-tight.dxf --layer CUT --dxf-entities lwpolyline
   vectortighten tighten cut.svg -r 0.5 -o cut-tight.svg --stroke-only
   vectortighten tighten art.svg -r 1 -o art-tight.svg --keep-style --nesting paint
+  vectortighten tighten labels.tif -r 6 --labels -o tight.tif
+  vectortighten tighten photo.jpg -r 8 --threshold 0.6 -o tight.png
+  vectortighten tighten mask.png -r 8 -o tight.svg --trace exact
 """
 
 _EPILOG_DEMO = """\
@@ -78,8 +92,10 @@ from . import io as _io
 
 # The extensions the command line reads and writes, from the table of formats (`vectortighten.io.FORMATS`).
 _VECTOR_IN = _io.READ_FORMATS
-_ALL_IN = _VECTOR_IN + tuple(e for f in _io.FORMATS.values() if f.kind == "mask" for e in f.extensions)
+_MASK_IN = tuple(e for f in _io.FORMATS.values() if f.kind == "mask" for e in f.extensions)
+_ALL_IN = _VECTOR_IN + _MASK_IN
 _VECTOR_OUT = _io.WRITE_FORMATS
+_MASK_OUT = _io.mask.MASK_WRITE_EXTENSIONS
 
 
 class UsageError(Exception):
@@ -103,13 +119,14 @@ def _positive_float(text: str) -> float:
     return value
 
 
-def _unit_float(text: str) -> float:
+def _threshold(text: str) -> float:
     try:
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    if not 0 <= value <= 1:
-        raise argparse.ArgumentTypeError(f"must be between 0 and 1, got {text}")
+    if not 0 < value <= 1:
+        raise argparse.ArgumentTypeError(f"must be more than 0 and at most 1 (a share of the full scale), "
+                                         f"got {text}")
     return value
 
 
@@ -160,8 +177,9 @@ def _nonnegative_float(text: str) -> float:
 
 def _format(text: str) -> str:
     ext = "." + text.lower().lstrip(".")
-    if ext not in _VECTOR_OUT:
-        raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(e[1:] for e in _VECTOR_OUT)}")
+    known = _VECTOR_OUT + tuple(e for e in _MASK_OUT if e not in _VECTOR_OUT)
+    if ext not in known:
+        raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(e[1:] for e in known)}")
     return ext
 
 
@@ -207,9 +225,10 @@ def _add_tighten(sub) -> None:
         epilog=_EPILOG_TIGHTEN, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     tight.add_argument("inputs", type=Path, nargs="+", metavar="IN",
-                       help="input file(s) or a folder of them (.svg, .dxf, .wkt, .geojson, .json, .png)")
+                       help="input file(s) or a folder of them (.svg, .dxf, .wkt, .geojson, .json; "
+                            "images: .png, .tif, .bmp, .gif, .jpg)")
     tight.add_argument("-r", "--radius", type=_positive_float, required=True, metavar="R",
-                       help="the tightening radius, in the input's units (pixels for a PNG)")
+                       help="the tightening radius, in the input's units (pixels for an image)")
     tight.add_argument("-o", "--output", type=Path, required=True, metavar="OUT",
                        help="output file; a folder for several inputs (created if its parent exists)")
     tight.add_argument("--init", choices=("core", "input", "mason"), default="core",
@@ -221,13 +240,26 @@ def _add_tighten(sub) -> None:
                        help="SVG and DXF input: largest distance between a curve and its chords "
                             "(default 1e-4 of the drawing's diagonal)")
     tight.add_argument("--format", type=_format, default=None, metavar="EXT",
-                       help="output format for a folder OUT: svg, wkt, geojson, json, dxf or png "
-                            "(default: the input's)")
+                       help="output format for a folder OUT: svg, wkt, geojson, json, dxf, png, tif or "
+                            "bmp (default: the input's)")
     tight.add_argument("--layers", type=_layers, default=(), metavar="L,L",
                        help="SVG, DXF and PNG output: also draw input, core and/or mortar, e.g. "
                             "--layers input,core,mortar")
-    tight.add_argument("--threshold", type=_unit_float, default=0.5, metavar="V",
-                       help="PNG input: pixels brighter than V (0..1) belong to the shape (default 0.5)")
+    tight.add_argument("--threshold", type=_threshold, default=None, metavar="V",
+                       help="image input: read a greyscale or colour photo; a pixel is inside when its "
+                            "level (value / full scale, colour by luminance, transparency on white) is >= V, "
+                            "0 < V <= 1 (default: no threshold, every non-zero pixel is inside)")
+    tight.add_argument("--invert", action="store_true",
+                       help="image input: swap inside and outside (dark shapes on a light background)")
+    tight.add_argument("--labels", action="store_true",
+                       help="image input: a label image (0 = background); tighten every label and write "
+                            "one label image of the same dtype")
+    tight.add_argument("--stack", action="store_true",
+                       help="image input: tighten each slice of a multi-page TIFF (or animated GIF) on its "
+                            "own and write a stack (.tif); without it a stack is refused")
+    tight.add_argument("--trace", choices=("exact", "contours"), default="exact",
+                       help="image input, vector output: exact = tighten the pixel squares exactly (arcs of "
+                            "radius R; default), contours = the pixel method's sub-pixel contour")
     cad = tight.add_argument_group("CAD and cut files")
     cad.add_argument("--layer", type=_names, action="extend", default=None, metavar="NAME[,NAME]",
                      help="DXF input: read only entities on these layers (case-insensitive; repeatable; "
@@ -265,7 +297,11 @@ class _Task:
     tolerance: float | None
     flatten: float | None
     layers: tuple[str, ...]
-    threshold: float
+    threshold: float | None
+    invert: bool = False
+    labels: bool = False
+    stack: bool = False
+    trace: str = "exact"
     read_options: tuple = ()      # (name, value) pairs for the input format's reader (`Format.read_options`)
     write_options: tuple = ()     # (name, value) pairs for the output format's writer
 
@@ -329,12 +365,10 @@ def _tighten_file(task: _Task) -> str:
     from . import io
 
     _check_output_format(task.source, task.target)
-    if task.source.suffix.lower() == ".png":
-        raster = io.mask._raster("load_mask", "save_mask", "tighten")
-        mask = io.read_mask(task.source, threshold=task.threshold)
-        result = raster.tighten(mask, task.r, init=task.init)
-        io.write_mask(result.mask, task.target)
-        return f"{task.target}: {int(result.mask.sum())} pixel(s) set of {result.mask.size}"
+    if task.source.suffix.lower() in _MASK_IN:
+        return io.mask.tighten_image_file(
+            task.source, task.target, r=task.r, init=task.init, threshold=task.threshold, invert=task.invert,
+            labels=task.labels, stack=task.stack, trace=task.trace, tolerance=task.tolerance, layers=task.layers)
     from .engine import tighten
 
     fmt_in, fmt_out = io.format_of(task.source), io.format_of(task.target)
@@ -369,11 +403,12 @@ def _expand_inputs(inputs: list[Path]) -> tuple[list[Path], bool]:
 
 def _check_output_format(source: Path, target: Path) -> None:
     ext = target.suffix.lower()
-    if source.suffix.lower() == ".png":
-        if ext != ".png":
-            raise UsageError(f"{source}: a PNG mask is tightened by the pixel method and written as .png, "
-                             f"not {ext or '(no extension)'}")
-    elif ext not in _VECTOR_OUT:
+    if source.suffix.lower() in _MASK_IN:
+        return              # an image goes to an image or to vectors: `io.mask.tighten_image_file` checks
+    if ext in _MASK_OUT and ext not in _VECTOR_OUT:
+        raise UsageError(f"{target}: {ext} is for image inputs (masks); a vector shape is written as one of "
+                         f"{', '.join(_VECTOR_OUT)}")
+    if ext not in _VECTOR_OUT:
         raise UsageError(f"{target}: unsupported output format {ext or '(none)'!r}; "
                          f"expected one of {', '.join(_VECTOR_OUT)}")
 
@@ -385,14 +420,26 @@ def _plan(args) -> tuple[list[_Task], bool]:
     if not batch and out.is_dir():
         batch = True
     opts = dict(r=args.radius, init=args.init, tolerance=args.tolerance, flatten=args.flatten,
-                layers=args.layers, threshold=args.threshold)
+                layers=args.layers, threshold=args.threshold, invert=args.invert, labels=args.labels,
+                stack=args.stack, trace=args.trace)
+    image_only = [name for name, on in (("--threshold", args.threshold is not None),
+                                        ("--invert", args.invert), ("--labels", args.labels),
+                                        ("--stack", args.stack), ("--trace", args.trace != "exact")) if on]
+    if image_only and not any(f.suffix.lower() in _MASK_IN for f in files):
+        raise UsageError(f"{image_only[0]} is for image inputs ({', '.join(_MASK_IN)})")
     cad = _cad_options(args)
     if batch:
         if out.exists() and not out.is_dir():
             raise UsageError(f"{str(out)!r} exists and is not a folder")
         targets = []
         for f in files:
-            ext = args.format or (f.suffix.lower() if f.suffix.lower() in _VECTOR_OUT + (".png",) else ".svg")
+            own = f.suffix.lower()
+            if args.format:
+                ext = args.format
+            elif own in _MASK_IN:
+                ext = own if own in _MASK_OUT else ".png"      # GIF and JPEG masks come back as PNG
+            else:
+                ext = own if own in _VECTOR_OUT else ".svg"
             targets.append(out / (f.stem + ext))
     else:
         if args.format and out.suffix.lower() != args.format:

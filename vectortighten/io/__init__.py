@@ -1,7 +1,7 @@
 """Reading shapes from files and writing tightenings to them, through one table of formats.
 
-Each family of files has its module — `svg`, `dxf`, `geo` (WKT and GeoJSON), `mask` (images for the
-pixel method), `picture` (a rendering) — and registers what it reads and writes in `FORMATS`, keyed by
+Each family of files has its module — `svg`, `dxf`, `geo` (WKT and GeoJSON), `mask` (mask and label
+images: PNG, TIFF, BMP, GIF, JPEG, for the pixel method or traced to vectors), `picture` (a rendering) — and registers what it reads and writes in `FORMATS`, keyed by
 the format's name with the extensions it owns. `read_shape` and `write_result` look the extension up
 there (``format=`` overrides it); the command line reads the same table for ``--format`` and its help.
 
@@ -34,7 +34,7 @@ from ._fill import fill_rings
 from ._outline import DEFAULT_GAP
 from ._source import INSUNITS, MM_PER_UNIT, Source
 from .dxf import DXF_ENTITIES, read_dxf
-from .mask import read_mask, write_mask
+from .mask import read_mask, tighten_image_file, trace_tighten, write_mask
 from .svg import DEFAULT_FLATTEN, NESTINGS, load_svg, read_svg, svg_document, svg_unit
 
 __all__ = [
@@ -63,6 +63,8 @@ __all__ = [
     "read_svg",
     "svg_document",
     "svg_unit",
+    "tighten_image_file",
+    "trace_tighten",
     "write_mask",
     "write_result",
 ]
@@ -134,7 +136,8 @@ def _read_dxf(path, flatten=None, **options) -> Source:
     return dxf.read_dxf(path, flatten=flatten, **options)
 
 
-#: Every format, by name. A mask format (PNG) is read by `read_mask`; a vector result is drawn into it.
+#: Every format, by name. A mask format (PNG, TIFF, BMP, GIF, JPEG) is read by `read_mask` or
+#: `tighten_image_file`; a vector result is drawn into a PNG.
 FORMATS: dict[str, Format] = {
     "svg": Format("svg", (".svg",), _read_svg,
                   _write_text(lambda result, meta=None, **kw: svg.svg_document(result, meta=meta, **kw)),
@@ -146,10 +149,15 @@ FORMATS: dict[str, Format] = {
     "dxf": Format("dxf", (".dxf",), _read_dxf, _write_dxf, read_options=("layers", "gap"),
                   write_options=("dxf_entities",)),
     "png": Format("png", (".png",), None, _write_picture, kind="mask"),
+    "tiff": Format("tiff", (".tif", ".tiff"), None, None, kind="mask"),
+    "bmp": Format("bmp", (".bmp",), None, None, kind="mask"),
+    "gif": Format("gif", (".gif",), None, None, kind="mask"),
+    "jpeg": Format("jpeg", (".jpg", ".jpeg"), None, None, kind="mask"),
 }
 
-#: Extensions `read_shape` understands (``.png`` goes to `read_mask` instead).
+#: Extensions `read_shape` understands (images go to `read_mask` or `tighten_image_file` instead).
 READ_FORMATS = tuple(e for f in FORMATS.values() if f.read is not None for e in f.extensions)
+_MASK_IN = tuple(e for f in FORMATS.values() if f.kind == "mask" for e in f.extensions)
 #: Extensions `write_result` writes.
 WRITE_FORMATS = tuple(e for f in FORMATS.values() if f.write is not None for e in f.extensions)
 
@@ -242,13 +250,13 @@ def read_source(path, *, flatten: float | None = None, format: str | None = None
         if format is not None:
             raise
         raise ValueError(f"{path}: unsupported input format {path.suffix.lower() or '(none)'!r}; "
-                         f"expected one of {', '.join(READ_FORMATS + ('.png',))}") from None
+                         f"expected one of {', '.join(READ_FORMATS + _MASK_IN)}") from None
     if fmt.kind == "mask":
         raise ValueError(f"{path}: a {fmt.name.upper()} is a mask for the pixel method; "
                          "read it with read_mask")
     if fmt.read is None:
         raise ValueError(f"{path}: {fmt.name.upper()} files cannot be read yet; "
-                         f"expected one of {', '.join(READ_FORMATS + ('.png',))}")
+                         f"expected one of {', '.join(READ_FORMATS + _MASK_IN)}")
     _check_options(fmt, options, fmt.read_options, "input")
     got = fmt.read(path, flatten=flatten, **options)
     if isinstance(got, Source):
