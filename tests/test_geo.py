@@ -361,7 +361,7 @@ def test_geodata_options_on_a_shape_refused(tmp_path, capsys):
     src = tmp_path / "s.wkt"
     src.write_text("POLYGON ((0 0, 9 0, 9 9, 0 9, 0 0))")
     assert main(["tighten", str(src), "-r", "1", "-o", str(tmp_path / "o.wkt"), "--to-crs", "EPSG:3857"]) == 2
-    assert "--to-crs apply to geodata layers" in one_error_line(capsys)
+    assert "--to-crs applies to geodata layers" in one_error_line(capsys)
 
 
 def test_shapefile_replaced_whole(tmp_path):

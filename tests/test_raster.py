@@ -241,7 +241,9 @@ def test_png_round_trip_and_threshold(tmp_path):
     grey = np.full((4, 4), 100, np.uint8)
     grey[0, 0] = 200
     Image.fromarray(grey).save(tmp_path / "g.png")
-    assert raster.load_mask(tmp_path / "g.png").sum() == 1          # 200/255 ≥ ½, 100/255 < ½
+    assert raster.load_mask(tmp_path / "g.png", threshold=0.5).sum() == 1      # 200/255 ≥ ½, 100/255 < ½
+    with pytest.warns(raster.ManyValuesWarning, match="2 distinct values"):
+        assert raster.load_mask(tmp_path / "g.png").all()                      # no threshold: non-zero
 
 
 def test_png_errors(tmp_path):

@@ -1,6 +1,7 @@
 """Tightening a geodata file feature by feature: what the command line does with a layer.
 
-Read one layer (`vectortighten.io.read_features`), check its CRS (``r`` is a length in the CRS's units,
+Read one layer (`vectortighten.io.read_features`, with the reader's options: ``layer``, ``crs``), check
+its CRS (``r`` is a length in the CRS's units,
 so degrees are refused unless the features are reprojected), tighten every feature on its own
 (`vectortighten.tighten_all`, or a dask cluster), and write one output feature per input feature, in
 order, with every attribute and the CRS unchanged.
@@ -27,10 +28,11 @@ __all__ = ["GeoOptions", "crs_unit", "holds_features", "tighten_features_file"]
 
 @dataclass(frozen=True)
 class GeoOptions:
-    """What the command line passes for a geodata input (all optional)."""
+    """How the command line tightens a geodata layer (all optional).
 
-    layer: str | None = None
-    crs: str | None = None
+    The reader's own options, ``layer`` and ``crs``, travel apart (`vectortighten.io.Format.read_options`).
+    """
+
     to_crs: str | None = None
     input_format: str | None = None
     output_format: str | None = None
@@ -72,12 +74,7 @@ def _crs_label(crs) -> str:
 
 
 def _parse_crs(text: str, option: str):
-    pyproj = _require("pyproj", "geo", f"{option}")
-    try:
-        return pyproj.CRS.from_user_input(text)
-    except pyproj.exceptions.CRSError as exc:
-        detail = str(exc).splitlines()[0] if str(exc) else "not understood"
-        raise CRSError(f"{option} {text}: not a CRS that pyproj knows ({detail})") from None
+    return io.geo.parse_crs(text, option)
 
 
 def _suggestion(geoms, crs) -> str:
@@ -96,8 +93,6 @@ def _check_crs(features, source: Path, options: GeoOptions, r: float):
     """The CRS to tighten in, and whether the features must be reprojected into it first."""
     crs = features.meta.get("crs")
     layer = features.meta.get("layer")
-    if options.crs is not None:
-        crs = _parse_crs(options.crs, "--crs")
     if crs is None:
         if features.meta.get("crs_unreadable"):
             raise CRSError(f"{source}: its .prj cannot be read as a CRS, so the unit of r is unknown; say "
@@ -141,8 +136,10 @@ def _kinds(geoms) -> tuple[int, dict[str, int]]:
 
 
 def tighten_features_file(source: Path, target: Path, *, r: float, init: str, tolerance: float | None,
-                          options: GeoOptions) -> str:
+                          options: GeoOptions, read_options: dict | None = None) -> str:
     """Tighten every feature of a geodata layer and write them, one output feature per input feature.
+
+    ``read_options`` are the reader's (``layer``, and ``crs`` given as text, as ``--crs`` has it).
 
     Returns
     -------
@@ -169,7 +166,10 @@ def tighten_features_file(source: Path, target: Path, *, r: float, init: str, to
 
     if fmt_in.name != "geojson":      # a malformed GeoJSON is reported as such, whatever the output
         check_output()
-    features = io.read_features(source, layer=options.layer, format=options.input_format)
+    read_options = dict(read_options or {})
+    if read_options.get("crs") is not None:
+        read_options["crs"] = _parse_crs(read_options["crs"], "--crs")
+    features = io.read_features(source, format=options.input_format, **read_options)
     check_output()
     layer = features.meta.get("layer")
     n = len(features)

@@ -6,9 +6,7 @@ import importlib
 import os
 import tempfile
 from contextlib import contextmanager
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import shapely
@@ -16,54 +14,10 @@ from shapely.geometry import MultiPolygon, Polygon
 
 from vectortighten.errors import GeometryTypeError, InvalidGeometryError
 
-__all__ = ["LAYERS", "Features", "MissingDependencyError", "atomic_path", "atomic_write"]
+__all__ = ["LAYERS", "MissingDependencyError", "atomic_path", "atomic_write"]
 
 #: Layers a writer can add to an SVG, DXF or PNG output besides the tightening.
 LAYERS = ("input", "core", "mortar")
-
-
-@dataclass
-class Features:
-    """Features read from a file: one geometry each, their attributes, and what travels to the writer.
-
-    A reader of a format that holds features (GeoPackage, Shapefile, GeoJSON, FlatGeobuf, GeoParquet)
-    returns this; the writer of such a format takes it back and puts everything in ``meta`` and
-    ``attributes`` into the output unchanged, so only the geometry changes between input and output.
-
-    Attributes
-    ----------
-    geometry : (n,) object ndarray
-        One shapely geometry (or None) per feature, in the file's order.
-    attributes : pandas.DataFrame or None
-        One row per feature (same order), every column but the geometry; None when there are none.
-    meta : dict
-        What the writer needs to reproduce the source, by key. Geodata readers set ``"crs"`` (a
-        ``pyproj.CRS`` or None), ``"layer"`` (its name), ``"geometry_name"`` (the geometry column's name
-        in the file) and ``"format"``. Other families may add their own (an SVG's ``"unit"`` and
-        ``"page"``, a DXF's ``"insunits"``); a writer ignores keys it does not know.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from shapely.geometry import box
-    >>> f = Features(np.array([box(0, 0, 1, 1)], dtype=object), meta={"layer": "parcels"})
-    >>> len(f), f.with_geometry(np.array([None], dtype=object)).meta["layer"]
-    (1, 'parcels')
-    """
-
-    geometry: Any
-    attributes: Any = None
-    meta: dict = field(default_factory=dict)
-
-    def __len__(self) -> int:
-        return len(self.geometry)
-
-    def with_geometry(self, geometry, **meta) -> Features:
-        """The same features with new geometries (and ``meta`` updated by the keywords)."""
-        geometry = np.asarray(geometry, dtype=object)
-        if len(geometry) != len(self.geometry):
-            raise ValueError(f"{len(geometry)} geometries for {len(self.geometry)} features")
-        return Features(geometry, self.attributes, {**self.meta, **meta})
 
 
 class MissingDependencyError(ImportError):

@@ -28,10 +28,11 @@ from shapely.geometry import shape
 
 from vectortighten.errors import InvalidGeometryError
 
-from ._common import Features, _read_text, _require, atomic_path
+from ._common import _read_text, _require, atomic_path
+from ._source import Features, Source, crs_units
 
-__all__ = ["GEODATA", "geojson_is_plain", "read_features", "read_geojson", "read_wkt", "result_features",
-           "wkt_text", "write_features"]
+__all__ = ["GEODATA", "geojson_is_plain", "parse_crs", "read_features", "read_source", "read_wkt",
+           "result_features", "wkt_text", "write_features"]
 
 #: Geodata formats: name -> (GDAL driver or None for GeoParquet, what to call it in messages).
 GEODATA: dict[str, tuple[str | None, str]] = {
@@ -145,22 +146,46 @@ def _read_plain_geojson(path: Path):
     return geom
 
 
-def read_geojson(path: Path):
-    """The geometry of a GeoJSON file as one shape: a bare geometry, or the union of its features.
+def read_source(path, name: str, *, layer: str | None = None, crs=None) -> Source:
+    """A geodata file as one shape: a bare GeoJSON geometry, or the union of a layer's features.
 
     The features are repaired one by one before the union (see `read_features`), so that two features
-    that a reprojection made invalid cannot make the union fail.
+    that a reprojection made invalid cannot make the union fail. ``meta`` is that of `read_features`
+    (CRS, layer, units), so `vectortighten.io.write_result` writes the result back in the layer's CRS.
+
+    Parameters
+    ----------
+    path : str or Path
+    name : {"gpkg", "shp", "geojson", "fgb", "parquet"}
+    layer : str, optional
+        See `read_features`.
+    crs : pyproj.CRS or str, optional
+        See `read_features`.
+
+    Returns
+    -------
+    Source
+        ``loops`` is None (the file's boundary is sampled).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d) / "s.geojson"
+    ...     _ = p.write_text('{"type": "Polygon", "coordinates": [[[0, 0], [4, 0], [4, 4], [0, 4], [0, 0]]]}')
+    ...     src = read_source(p, "geojson")
+    >>> src.shape.area, src.crs, src.units
+    (16.0, None, None)
     """
-    if geojson_is_plain(path):
-        return _read_plain_geojson(path)
-    return _union(read_features(path, "geojson"), path)
-
-
-def _read_union(path: Path, name: str, layer: str | None = None):
-    """The features of a geodata file united into one shape (for the commands that take one shape)."""
-    if name == "geojson":
-        return read_geojson(path)
-    return _union(read_features(path, name, layer=layer), path)
+    path = Path(path)
+    if name == "geojson" and geojson_is_plain(path):
+        if layer is not None or crs is not None:
+            given = "layer" if layer is not None else "crs"
+            raise ValueError(f"{path} is a bare GeoJSON geometry, not a layer of features: {given} does not "
+                             "apply")
+        return Source(_read_plain_geojson(path), {"format": "geojson", "crs": None, "units": None})
+    features = read_features(path, name, layer=layer, crs=crs)
+    return Source(_union(features, path), dict(features.meta))
 
 
 def _union(features: Features, path: Path):
@@ -186,7 +211,7 @@ def _first_line(exc: BaseException) -> str:
     return text.split("; It might help")[0].rstrip(".;")
 
 
-def read_features(path, name: str, *, layer: str | None = None, repair: bool = True) -> Features:
+def read_features(path, name: str, *, layer: str | None = None, crs=None, repair: bool = True) -> Features:
     """Read the features of one layer of a geodata file.
 
     Parameters
@@ -197,14 +222,18 @@ def read_features(path, name: str, *, layer: str | None = None, repair: bool = T
         Its format (see `GEODATA`).
     layer : str, optional
         The layer to read; needed when the file has several (a GeoPackage may).
+    crs : pyproj.CRS or str, optional
+        The CRS of the coordinates, for a layer that has none (or a wrong one): it replaces the file's.
+        Anything ``pyproj.CRS.from_user_input`` takes ("EPSG:25832", a WKT, a PROJ string).
     repair : bool
         Repair invalid polygons, each alone (``shapely.make_valid``, with a counted `RepairWarning`).
 
     Returns
     -------
     Features
-        ``meta`` has ``crs`` (``pyproj.CRS`` or None), ``layer``, ``geometry_name``, ``format``, and for a
-        Shapefile whose ``.prj`` GDAL cannot read, ``crs_unreadable=True``.
+        ``meta`` has ``crs`` (``pyproj.CRS`` or None), ``units`` (`crs_units` of it: ``"m"``, ``"us_ft"``…,
+        None for degrees), ``layer``, ``geometry_name``, ``format``, and for a Shapefile whose ``.prj`` GDAL
+        cannot read, ``crs_unreadable=True``.
 
     Raises
     ------
@@ -212,6 +241,8 @@ def read_features(path, name: str, *, layer: str | None = None, repair: bool = T
         The file cannot be read as that format (corrupt, truncated), or has no geometry column.
     ValueError
         The file has several layers and ``layer`` is None, or has no layer ``layer``.
+    CRSError
+        The file's CRS cannot be read, or ``crs`` is not a CRS.
     MissingDependencyError
         The ``geo`` extra is not installed.
 
@@ -231,6 +262,7 @@ def read_features(path, name: str, *, layer: str | None = None, repair: bool = T
     path = Path(path)
     driver, label = GEODATA[name]
     gpd, pyogrio = _libraries(f"reading {label}", parquet=driver is None)
+    given_crs = parse_crs(crs, "crs") if crs is not None else None
     if not path.exists():
         raise FileNotFoundError(2, "No such file or directory", str(path))
     geometry_name = None
@@ -279,8 +311,9 @@ def read_features(path, name: str, *, layer: str | None = None, repair: bool = T
         raise InvalidGeometryError(f"{path}: layer {layer_name!r} has no geometry column")
     geometry = np.asarray(frame.geometry.array, dtype=object)
     attributes = frame.drop(columns=[frame.geometry.name])
-    crs = frame.crs
-    meta = {"crs": crs, "layer": layer_name, "geometry_name": geometry_name, "format": name}
+    crs = frame.crs if given_crs is None else given_crs
+    meta = {"crs": crs, "units": crs_units(crs), "layer": layer_name, "geometry_name": geometry_name,
+            "format": name}
     if crs is None and name == "shp" and any(path.with_suffix(e).exists() for e in (".prj", ".PRJ")):
         meta["crs_unreadable"] = True
     if repair and len(geometry):
@@ -290,14 +323,39 @@ def read_features(path, name: str, *, layer: str | None = None, repair: bool = T
     return Features(geometry, attributes, meta)
 
 
-def result_features(result, crs=None) -> Features:
-    """One feature: the sampled geometry of a `Tightening` with its measures as attributes."""
-    import pandas as pd
+def result_features(result, meta: dict | None = None) -> Features:
+    """One feature: the sampled geometry of a `Tightening` with its measures as attributes.
 
+    ``meta`` is the input's (`vectortighten.io.read_source`): its CRS and layer name are kept; an input
+    that is not geodata (SVG, DXF, WKT) gives a feature with no CRS.
+    """
+    pd = _require("pandas", "geo", "writing geodata")
+    meta = meta or {}
     attributes = pd.DataFrame({"r": [result.r], "init": [result.init], "perimeter": [result.perimeter],
                                "area": [result.area], "n_components": [result.n_components],
                                "n_holes": [result.n_holes]})
-    return Features(np.array([result.geometry], dtype=object), attributes, {"crs": crs})
+    keep = {k: meta[k] for k in ("crs", "layer") if meta.get(k) is not None}
+    return Features(np.array([result.geometry], dtype=object), attributes, {"crs": None, **keep})
+
+
+def parse_crs(text, what: str = "crs"):
+    """A ``pyproj.CRS`` from anything ``pyproj.CRS.from_user_input`` takes; `CRSError` naming ``what``.
+
+    Examples
+    --------
+    >>> parse_crs("EPSG:32631").to_epsg()
+    32631
+    """
+    pyproj = _require("pyproj", "geo", what)
+    if isinstance(text, pyproj.CRS):
+        return text
+    try:
+        return pyproj.CRS.from_user_input(text)
+    except pyproj.exceptions.CRSError as exc:
+        from vectortighten.errors import CRSError
+
+        detail = str(exc).splitlines()[0] if str(exc) else "not understood"
+        raise CRSError(f"{what} {text}: not a CRS that pyproj knows ({detail})") from None
 
 
 def _frame(features: Features, gpd):
