@@ -317,6 +317,12 @@ def _atomic(path: Path):
         raise FileNotFoundError(2, "output folder does not exist", str(path.parent))
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
     os.close(fd)
+    try:  # mkstemp makes the file private; give it the mode of the file it replaces, or the usual one
+        umask = os.umask(0o022)
+        os.umask(umask)
+        os.chmod(tmp, path.stat().st_mode & 0o7777 if path.exists() else 0o666 & ~umask)
+    except OSError:
+        pass
     try:
         yield tmp
         os.replace(tmp, path)

@@ -433,7 +433,7 @@ def test_bad_dxf_exit_2_one_line_nothing_written(case, tmp_path, capsys):
 def test_option_for_another_format_is_refused(tmp_path, capsys):
     src = tmp_path / "s.wkt"
     src.write_text("POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0))")
-    for extra, needle in ((["--layer", "CUT"], "--layer applies to DXF input only"),
+    for extra, needle in ((["--layer", "CUT"], "--layer applies to DXF input and geodata layers"),
                           (["--nesting", "paint"], "--nesting applies to SVG input only"),
                           (["--keep-style"], "--keep-style applies to SVG output only")):
         assert main(["tighten", str(src), "-r", "1", "-o", str(tmp_path / "o.dxf"), *extra]) == 2

@@ -230,7 +230,7 @@ def test_bad_images_are_one_line_exit_2_nothing_written(tmp_path, capsys, make, 
         code = main(["tighten", str(src), "-r", "3", *extra, "-o", str(tmp_path / out)])
         line = _err_line(capsys)
         if extra and out == "t.svg":
-            assert code == 2 and "or GeoJSON (one feature a label); not .svg" in line
+            assert code == 2 and "or geodata (.geojson" in line and "one feature a label); not .svg" in line
             continue
         if make is _three_d and out == "t.png":
             assert code == 2 and "stack" in line
@@ -264,7 +264,7 @@ def test_image_options_on_a_vector_input_are_refused(tmp_path, capsys):
     src = tmp_path / "s.wkt"
     src.write_text("POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0))")
     assert main(["tighten", str(src), "-r", "1", "--labels", "-o", str(tmp_path / "t.wkt")]) == 2
-    assert "--labels is for image inputs" in _err_line(capsys)
+    assert "--labels applies to image inputs" in _err_line(capsys)
     assert main(["tighten", str(src), "-r", "1", "-o", str(tmp_path / "t.tif")]) == 2
     assert ".tif is for image inputs" in _err_line(capsys)
 

@@ -308,3 +308,16 @@ def test_a_failed_write_leaves_nothing(tmp_path):
         raster.write_image(tmp_path / "no" / "x.png", np.zeros((4, 4), np.uint8))
     assert list(tmp_path.iterdir()) == []
     assert rio.IMAGE_WRITE_EXTENSIONS == (".png", ".tif", ".tiff", ".bmp")
+
+
+@pytest.mark.parametrize("ext", [".png", ".tif", ".bmp"])
+def test_written_images_are_not_private(tmp_path, ext):
+    """The atomic writer's temporary file is private; the image it becomes has the usual mode."""
+    out = tmp_path / f"m{ext}"
+    rio.write_image(out, _kind("0/255 uint8"))
+    umask = os.umask(0o022)
+    os.umask(umask)
+    assert out.stat().st_mode & 0o777 == 0o666 & ~umask
+    os.chmod(out, 0o640)
+    rio.write_image(out, _kind("0/1 uint8"))                  # an existing file keeps its own mode
+    assert out.stat().st_mode & 0o777 == 0o640

@@ -52,6 +52,11 @@ def check_shape(S, name: str = "S", *, allow_empty: bool = False) -> Polygon | M
     clockwise. The input object is never modified.
     """
     if not isinstance(S, BaseGeometry):
+        if hasattr(S, "__len__") and not isinstance(S, (str, bytes)):
+            # A GeoSeries, an array or a list of geometries: the vectorised call is tighten_all.
+            raise GeometryTypeError(f"{name} must be one shapely Polygon or MultiPolygon, got a "
+                                    f"{type(S).__name__} of {len(S)}; for many geometries use "
+                                    "vectortighten.tighten_all (or core_all, fillet_all, ...)")
         raise GeometryTypeError(f"{name} must be a shapely Polygon or MultiPolygon, got {type(S).__name__}")
     if S.geom_type == "GeometryCollection":
         parts = [g for g in S.geoms if not g.is_empty]

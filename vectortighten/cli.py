@@ -17,8 +17,12 @@ import os
 import sys
 import warnings
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ._geofile import GeoOptions
 
 __all__ = ["COMMANDS", "main"]
 
@@ -28,6 +32,7 @@ examples:
   vectortighten tighten shape.svg -r 2 -o tight.svg
   vectortighten tighten shape.wkt -r 2 -o tight.dxf --init input
   vectortighten tighten drawings/ -r 0.5 -o out/ --format svg --jobs 4
+  vectortighten tighten parcels.gpkg --layer parcels -r 2 -o tight.gpkg
   vectortighten compare shape.svg -r 2 --plot check.png
   vectortighten figures -o figs
   python -m vectortighten tighten --help
@@ -37,10 +42,13 @@ _EPILOG_TIGHTEN = """\
 formats (by extension):
   in:  .svg (paths, curves, arcs, basic shapes, transforms, fill-rule nonzero/evenodd),
        .dxf (LINE, ARC, CIRCLE, LWPOLYLINE/POLYLINE with bulges, ELLIPSE, SPLINE, blocks),
-       .wkt, .geojson/.json (geometry, Feature, FeatureCollection),
-       .png .tif .tiff .bmp .gif .jpg (a mask or label image)
-  out: .svg (exact arcs as A commands), .wkt, .geojson/.json, .dxf (LINE and ARC, or LWPOLYLINE),
-       .png (a picture; for an image input, the tightened mask), .tif .bmp (image inputs)
+       .wkt, .geojson/.json (a bare geometry),
+       .png .tif .tiff .bmp .gif .jpg (a mask or label image);
+       geodata layers: .gpkg, .shp, .geojson/.json (Feature, FeatureCollection), .fgb,
+       .parquet (GeoParquet)
+  out: .svg (exact arcs as A commands), .wkt, .dxf (LINE and ARC, or LWPOLYLINE),
+       .png (a picture; for an image input, the tightened mask), .tif .bmp (image inputs),
+       and the geodata formats .gpkg, .shp, .geojson/.json, .fgb, .parquet
 
 masks and label images (the pixel method; r in pixels):
   any non-zero pixel is inside (0/1, 0/255, 0/65535, bool); --threshold V reads a greyscale
@@ -50,7 +58,8 @@ masks and label images (the pixel method; r in pixels):
   8192 x 8192 pixels (all pages counted) are refused. A vector output (.svg, .dxf, ...)
   traces the mask: --trace exact (default) tightens its pixel squares exactly (true arcs),
   --trace contours writes the pixel method's sub-pixel contour. Pixel coordinates:
-  x = column, y = -row (SVG: y = row). --labels to .geojson: one feature a label.
+  x = column, y = -row (SVG: y = row). --labels to geodata (.geojson, .gpkg, ...): one
+  feature a label.
 
 cut files (CNC, laser): a DXF, or an SVG whose shapes are all unfilled outlines, is read
 as a cut file: closed outlines nest even-odd (a circle inside the plate is a hole), loose
@@ -62,9 +71,22 @@ input gives $INSUNITS 0). An SVG output keeps an SVG input's page (width, height
 SVG coordinates are the drawing's user units (R is in them too); an SVG whose root says
 width="210mm" viewBox="0 0 210 297" is in mm, and SVG and DXF outputs say so again.
 
+geodata: every feature of the layer is tightened on its own and written as one output
+feature, in order, with all its attributes and the CRS unchanged (a feature whose
+tightening is empty keeps its row, with an empty geometry; points and lines pass through
+unchanged). Features are never united, so neighbouring features are tightened
+independently: a border they share may open into a gap or close into an overlap.
+R is a length in the layer's CRS units (metres for UTM, feet for a US state plane in feet).
+A layer in degrees (EPSG:4326, or a GeoJSON without a "crs" member) is refused: pass
+--to-crs with a projected CRS to reproject it, tighten there and write it there. A layer
+with no CRS needs --crs. Needs the geo extra: pip install "vectortighten[geo]".
+
 several inputs, or a folder, write one output per input into the folder OUT, named after
 the input with the extension of --format (default: the input's own). A file that fails is
-reported on one line and the others go on; the exit code is then 2.
+reported on one line and the others go on; the exit code is then 2. An option that
+applies to none of the inputs (or outputs) is refused; in a batch, each file takes the
+options that apply to it (--layer: the DXF layers to read, or the one layer of a geodata
+file).
 
 examples:
   vectortighten tighten shape.svg -r 2 -o tight.svg
@@ -80,6 +102,10 @@ examples:
   vectortighten tighten labels.tif -r 6 --labels -o tight.tif
   vectortighten tighten photo.jpg -r 8 --threshold 0.6 -o tight.png
   vectortighten tighten mask.png -r 8 -o tight.svg --trace exact
+  vectortighten tighten buildings.shp -r 1.5 -o tight.gpkg
+  vectortighten tighten countries.geojson -r 20000 --to-crs EPSG:8857 -o tight.gpkg
+  vectortighten tighten parcels.parquet -r 2 -o tight.parquet --jobs 2
+  vectortighten tighten parcels.parquet -r 2 -o tight.parquet --dask local:4
 """
 
 _EPILOG_DEMO = """\
@@ -183,6 +209,19 @@ def _format(text: str) -> str:
     return ext
 
 
+def _input_format(text: str) -> str:
+    ext = "." + text.lower().lstrip(".")
+    if ext not in _VECTOR_IN:
+        raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(e[1:] for e in _VECTOR_IN)}")
+    return ext
+
+
+def _geo_options(**options):
+    from ._geofile import GeoOptions
+
+    return GeoOptions(**options)
+
+
 # ---------------------------------------------------------------------------------------------------------
 # demo
 # ---------------------------------------------------------------------------------------------------------
@@ -225,45 +264,51 @@ def _add_tighten(sub) -> None:
         epilog=_EPILOG_TIGHTEN, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     tight.add_argument("inputs", type=Path, nargs="+", metavar="IN",
-                       help="input file(s) or a folder of them (.svg, .dxf, .wkt, .geojson, .json; "
-                            "images: .png, .tif, .bmp, .gif, .jpg)")
+                       help="input file(s) or a folder of them (.svg, .dxf, .wkt, .geojson, .json, .gpkg, "
+                            ".shp, .fgb, .parquet; images: .png, .tif, .bmp, .gif, .jpg)")
     tight.add_argument("-r", "--radius", type=_positive_float, required=True, metavar="R",
-                       help="the tightening radius, in the input's units (pixels for an image)")
+                       help="the tightening radius, in the input's units (pixels for an image; the CRS's "
+                            "units for geodata, after --to-crs if given)")
     tight.add_argument("-o", "--output", type=Path, required=True, metavar="OUT",
                        help="output file; a folder for several inputs (created if its parent exists)")
     tight.add_argument("--init", choices=("core", "input", "mason"), default="core",
                        help="initial condition of the flow (default: core, the paper's)")
     tight.add_argument("--tolerance", type=_positive_float, default=None, metavar="T",
                        help="largest distance between an arc and its chords in sampled outputs "
-                            "(WKT, GeoJSON, PNG; default 1e-5·R)")
+                            "(WKT, GeoJSON and the other geodata formats, PNG; default 1e-5·R)")
     tight.add_argument("--flatten", type=_positive_float, default=None, metavar="F",
                        help="SVG and DXF input: largest distance between a curve and its chords "
                             "(default 1e-4 of the drawing's diagonal)")
+    known_out = _VECTOR_OUT + tuple(e for e in _MASK_OUT if e not in _VECTOR_OUT)
     tight.add_argument("--format", type=_format, default=None, metavar="EXT",
-                       help="output format for a folder OUT: svg, wkt, geojson, json, dxf, png, tif or "
-                            "bmp (default: the input's)")
+                       help="output format for a folder OUT, or for an OUT whose extension does not tell: "
+                            f"{', '.join(e[1:] for e in known_out)} (default: the input's)")
+    tight.add_argument("--input-format", type=_input_format, default=None, metavar="EXT",
+                       help="the input's format when its extension does not tell (vector formats)")
     tight.add_argument("--layers", type=_layers, default=(), metavar="L,L",
                        help="SVG, DXF and PNG output: also draw input, core and/or mortar, e.g. "
                             "--layers input,core,mortar")
-    tight.add_argument("--threshold", type=_threshold, default=None, metavar="V",
-                       help="image input: read a greyscale or colour photo; a pixel is inside when its "
-                            "level (value / full scale, colour by luminance, transparency on white) is >= V, "
-                            "0 < V <= 1 (default: no threshold, every non-zero pixel is inside)")
-    tight.add_argument("--invert", action="store_true",
-                       help="image input: swap inside and outside (dark shapes on a light background)")
-    tight.add_argument("--labels", action="store_true",
-                       help="image input: a label image (0 = background); tighten every label and write "
-                            "one label image of the same dtype")
-    tight.add_argument("--stack", action="store_true",
-                       help="image input: tighten each slice of a multi-page TIFF (or animated GIF) on its "
-                            "own and write a stack (.tif); without it a stack is refused")
-    tight.add_argument("--trace", choices=("exact", "contours"), default="exact",
-                       help="image input, vector output: exact = tighten the pixel squares exactly (arcs of "
-                            "radius R; default), contours = the pixel method's sub-pixel contour")
+    tight.add_argument("--layer", type=_names, action="extend", default=None, metavar="NAME[,NAME]",
+                       help="DXF input: read only entities on these layers (case-insensitive; repeatable; "
+                            "default: every layer that is on and thawed); geodata input: the one layer to "
+                            "tighten, when the file has several (a GeoPackage may)")
+    img = tight.add_argument_group("masks and label images")
+    img.add_argument("--threshold", type=_threshold, default=None, metavar="V",
+                     help="image input: read a greyscale or colour photo; a pixel is inside when its "
+                          "level (value / full scale, colour by luminance, transparency on white) is >= V, "
+                          "0 < V <= 1 (default: no threshold, every non-zero pixel is inside)")
+    img.add_argument("--invert", action="store_true",
+                     help="image input: swap inside and outside (dark shapes on a light background)")
+    img.add_argument("--labels", action="store_true",
+                     help="image input: a label image (0 = background); tighten every label and write "
+                          "one label image of the same dtype (or geodata: one feature a label)")
+    img.add_argument("--stack", action="store_true",
+                     help="image input: tighten each slice of a multi-page TIFF (or animated GIF) on its "
+                          "own and write a stack (.tif); without it a stack is refused")
+    img.add_argument("--trace", choices=("exact", "contours"), default=None,
+                     help="image input, vector output: exact = tighten the pixel squares exactly (arcs of "
+                          "radius R; default), contours = the pixel method's sub-pixel contour")
     cad = tight.add_argument_group("CAD and cut files")
-    cad.add_argument("--layer", type=_names, action="extend", default=None, metavar="NAME[,NAME]",
-                     help="DXF input: read only entities on these layers (case-insensitive; repeatable; "
-                          "default: every layer that is on and thawed)")
     cad.add_argument("--nesting", choices=("auto", "evenodd", "paint"), default=None,
                      help="SVG input: evenodd reads every outline as a cut line, nested across elements "
                           "(holes drawn as separate elements stay holes); paint fills shapes in painting "
@@ -280,15 +325,38 @@ def _add_tighten(sub) -> None:
     cad.add_argument("--stroke-only", action="store_true",
                      help="SVG output: outlines only (fill none, one element per loop, full circles as "
                           "<circle>), a red hairline stroke unless --keep-style keeps the element's")
+    geo = tight.add_argument_group("geodata (GeoPackage, Shapefile, GeoJSON, FlatGeobuf, GeoParquet)")
+    geo.add_argument("--to-crs", default=None, metavar="CRS",
+                     help="reproject the features to this projected CRS (EPSG:32631, a WKT, a PROJ string) "
+                          "before tightening; R is then in its units, and the output is written in it")
+    geo.add_argument("--crs", default=None, metavar="CRS",
+                     help="the CRS of the input's coordinates, when the file has none (or a wrong one)")
+    geo.add_argument("--dask", default=None, metavar="SCHEDULER",
+                     help="tighten the features on a dask cluster: a scheduler address "
+                          "(tcp://host:8786), or local / local:N to start N local workers "
+                          "(needs the dask extra)")
+    geo.add_argument("--skip-failed", action="store_true",
+                     help="a feature the engine fails on gets an empty geometry and is counted, "
+                          "instead of stopping the run")
     tight.add_argument("-j", "--jobs", type=_positive_int, default=None, metavar="N",
-                       help="processes for several inputs (default: all cores)")
-    tight.add_argument("--progress", action="store_true",
-                       help="show a progress bar on stderr (shown anyway when stderr is a terminal)")
+                       help="processes for several inputs (default: all cores); for one geodata input, "
+                            "processes over its features (default: one)")
+    shown = tight.add_mutually_exclusive_group()
+    shown.add_argument("--progress", action="store_true",
+                       help="show a progress bar on stderr (shown anyway when stderr is a terminal): over "
+                            "files for several inputs, over features for one geodata input")
+    shown.add_argument("-q", "--quiet", action="store_true",
+                       help="no progress bar and no summary line (warnings and errors still go to stderr)")
 
 
 @dataclass(frozen=True)
 class _Task:
-    """One input to tighten into one output, with the options of the run (picklable)."""
+    """One input to tighten into one output, with the options of the run (picklable).
+
+    ``route`` is how the input is tightened: ``"shape"`` (one shape through the exact engine: SVG, DXF,
+    WKT, a bare GeoJSON geometry), ``"features"`` (a geodata layer, feature by feature) or ``"image"``
+    (a mask or label image: the pixel method, or traced to vectors).
+    """
 
     source: Path
     target: Path
@@ -297,13 +365,13 @@ class _Task:
     tolerance: float | None
     flatten: float | None
     layers: tuple[str, ...]
-    threshold: float | None
-    invert: bool = False
-    labels: bool = False
-    stack: bool = False
-    trace: str = "exact"
+    route: str = "shape"
     read_options: tuple = ()      # (name, value) pairs for the input format's reader (`Format.read_options`)
     write_options: tuple = ()     # (name, value) pairs for the output format's writer
+    trace: str = "exact"
+    geo: GeoOptions | None = None
+    progress: bool = False
+    quiet: bool = False
 
 
 @dataclass
@@ -364,22 +432,34 @@ def _run_task(task: _Task) -> _Outcome:
 def _tighten_file(task: _Task) -> str:
     from . import io
 
-    _check_output_format(task.source, task.target)
-    if task.source.suffix.lower() in _MASK_IN:
-        return io.mask.tighten_image_file(
-            task.source, task.target, r=task.r, init=task.init, threshold=task.threshold, invert=task.invert,
-            labels=task.labels, stack=task.stack, trace=task.trace, tolerance=task.tolerance, layers=task.layers)
+    geo = task.geo or _geo_options()
+    _check_output_format(task, geo.output_format)
+    if task.route == "image":
+        return io.mask.tighten_image_file(task.source, task.target, r=task.r, init=task.init,
+                                          trace=task.trace, tolerance=task.tolerance, layers=task.layers,
+                                          **dict(task.read_options))
+    if task.route == "features":
+        from ._geofile import tighten_features_file
+
+        return tighten_features_file(task.source, task.target, r=task.r, init=task.init,
+                                     tolerance=task.tolerance, options=replace(geo, progress=task.progress),
+                                     read_options=dict(task.read_options))
+    import shapely
+
+    from ._progress import FeatureBar
     from .engine import tighten
 
-    fmt_in, fmt_out = io.format_of(task.source), io.format_of(task.target)
-    source = io.read_source(task.source, flatten=task.flatten,
-                            **{k: v for k, v in task.read_options if k in fmt_in.read_options})
-    result = tighten(source.shape, task.r, init=task.init, tolerance=task.tolerance)
+    source = io.read_source(task.source, flatten=task.flatten, format=geo.input_format,
+                            **dict(task.read_options))
+    with FeatureBar(1, enabled=task.progress, unit="shape") as bar:     # a large shape shows it is working
+        bar.start(task.source.name, shapely.get_num_coordinates(source.shape))
+        result = tighten(source.shape, task.r, init=task.init, tolerance=task.tolerance)
+        bar.advance()
     if result.is_empty:
         warnings.warn(f"the tightening is empty: every part is thinner than 2r = {2 * task.r:g}", UserWarning)
-    # The input's frame (units, position, page, styles) travels to the writer in the source's meta.
-    io.write_result(result, task.target, layers=task.layers, meta=source.meta,
-                    **{k: v for k, v in task.write_options if k in fmt_out.write_options})
+    # What the reader found (units, position, page, styles; a CRS) travels to the writer in the meta.
+    io.write_result(result, task.target, layers=task.layers, meta=source.meta, format=geo.output_format,
+                    **dict(task.write_options))
     return (f"{task.target}: perimeter {result.perimeter:.6g}, area {result.area:.6g}, "
             f"{result.n_components} component(s), {result.n_holes} hole(s)")
 
@@ -401,16 +481,144 @@ def _expand_inputs(inputs: list[Path]) -> tuple[list[Path], bool]:
     return files, batch
 
 
-def _check_output_format(source: Path, target: Path) -> None:
-    ext = target.suffix.lower()
-    if source.suffix.lower() in _MASK_IN:
-        return              # an image goes to an image or to vectors: `io.mask.tighten_image_file` checks
+def _check_output_format(task: _Task, override: str | None = None) -> None:
+    if task.route != "shape":
+        return      # an image goes to an image or to vectors, a layer to geodata: their paths check
+    ext = task.target.suffix.lower()
     if ext in _MASK_OUT and ext not in _VECTOR_OUT:
-        raise UsageError(f"{target}: {ext} is for image inputs (masks); a vector shape is written as one of "
-                         f"{', '.join(_VECTOR_OUT)}")
-    if ext not in _VECTOR_OUT:
-        raise UsageError(f"{target}: unsupported output format {ext or '(none)'!r}; "
+        raise UsageError(f"{task.target}: {ext} is for image inputs (masks); a vector shape is written as "
+                         f"one of {', '.join(_VECTOR_OUT)}")
+    if override is None and ext not in _VECTOR_OUT:
+        raise UsageError(f"{task.target}: unsupported output format {ext or '(none)'!r}; "
                          f"expected one of {', '.join(_VECTOR_OUT)}")
+
+
+def _format_or_none(path: Path, format: str | None = None):
+    from . import io
+
+    try:
+        return io.format_of(path, format)
+    except ValueError:
+        return None       # the reader or writer names the unsupported format
+
+
+def _route(path: Path, input_format: str | None) -> str:
+    """How ``path`` is tightened: ``"image"``, ``"features"`` (a geodata layer) or ``"shape"``."""
+    fmt = _format_or_none(path, input_format)
+    if fmt is None:
+        return "shape"
+    if fmt.kind == "mask":
+        return "image"
+    if fmt.holds_features:
+        from ._geofile import holds_features
+
+        return "features" if holds_features(path, input_format) else "shape"
+    return "shape"
+
+
+@dataclass(frozen=True)
+class _Scoped:
+    """A ``tighten`` option that only some inputs or outputs take.
+
+    ``keys`` are the reader's or writer's keywords it becomes (`vectortighten.io.Format.read_options`,
+    ``write_options``): a file takes the option when its format declares one of them. ``route`` instead
+    names the kind of input whose tightening takes it (``"image"``, ``"features"``).
+    """
+
+    dest: str
+    flag: str
+    side: str = "input"
+    keys: tuple[str, ...] = ()
+    route: str | None = None
+
+    def given(self, args) -> bool:
+        value = getattr(args, self.dest, None)
+        return value is not None and value is not False
+
+    def key_for(self, task: _Task) -> str | None:
+        """The keyword ``task`` takes this option as (``""`` for a route option), or None."""
+        if self.route is not None:
+            return "" if task.route == self.route else None
+        geo = task.geo or _geo_options()
+        if self.side == "input":
+            fmt = _format_or_none(task.source, geo.input_format)
+            if fmt is None or (fmt.holds_features and task.route == "shape"):
+                return None       # a bare GeoJSON geometry is one shape: no layer, no CRS
+            keys = fmt.read_options
+        else:
+            fmt = _format_or_none(task.target, geo.output_format)
+            keys = fmt.write_options if fmt is not None else ()
+        return next((k for k in self.keys if k in keys), None)
+
+    def owners(self) -> str:
+        """Who takes it, for the message that refuses it."""
+        from . import io
+
+        images, layers = f"image inputs ({', '.join(_MASK_IN)})", f"geodata layers ({_GEODATA_TITLES})"
+        if self.route is not None:
+            return images if self.route == "image" else layers
+        takes = [f for f in io.FORMATS.values() if any(
+            k in (f.read_options if self.side == "input" else f.write_options) for k in self.keys)]
+        plain = [f.title for f in takes if f.kind != "mask" and not f.holds_features]
+        parts = [f"{' and '.join(plain)} {self.side}"] if plain else []
+        if any(f.holds_features for f in takes):
+            parts.append(layers)
+        if any(f.kind == "mask" for f in takes):
+            parts.append(images)
+        return " and ".join(parts)
+
+
+_GEODATA_TITLES = ", ".join(f.title for f in _io.FORMATS.values() if f.holds_features)
+_FEATURE_EXTS = tuple(e for f in _io.FORMATS.values() if f.holds_features for e in f.extensions)
+
+#: The options of ``tighten`` that only some inputs or outputs take, checked by one rule: an option that
+#: none of the run's files takes is refused; in a batch, each file uses the options it takes.
+_SCOPED = (
+    _Scoped("layer", "--layer", keys=("layers", "layer")),      # DXF: layers to read; geodata: one layer
+    _Scoped("nesting", "--nesting", keys=("nesting",)),
+    _Scoped("gap", "--gap", keys=("gap",)),
+    _Scoped("crs", "--crs", keys=("crs",)),
+    _Scoped("threshold", "--threshold", keys=("threshold",)),
+    _Scoped("invert", "--invert", keys=("invert",)),
+    _Scoped("labels", "--labels", keys=("labels",)),
+    _Scoped("stack", "--stack", keys=("stack",)),
+    _Scoped("trace", "--trace", route="image"),
+    _Scoped("to_crs", "--to-crs", route="features"),
+    _Scoped("dask", "--dask", route="features"),
+    _Scoped("skip_failed", "--skip-failed", route="features"),
+    _Scoped("dxf_entities", "--dxf-entities", side="output", keys=("dxf_entities",)),
+    _Scoped("keep_style", "--keep-style", side="output", keys=("keep_style",)),
+    _Scoped("stroke_only", "--stroke-only", side="output", keys=("stroke_only",)),
+)
+
+
+def _scoped_options(args, task: _Task) -> _Task:
+    """``task`` with the reader's and writer's options it takes; refuses a value it cannot take."""
+    read, write = [], []
+    for opt in _SCOPED:
+        if not opt.given(args) or opt.route is not None:
+            continue
+        key = opt.key_for(task)
+        if key is None:
+            continue
+        value = getattr(args, opt.dest)
+        if key == "layer":
+            if len(value) != 1:
+                raise UsageError(f"{task.source}: a geodata file's layers are tables, and one is "
+                                 f"tightened at a time; --layer takes one name here, got {','.join(value)}")
+            value = value[0]
+        elif isinstance(value, list):
+            value = tuple(value)
+        (read if opt.side == "input" else write).append((key, value))
+    return replace(task, read_options=tuple(read), write_options=tuple(write))
+
+
+def _check_scoped(args, tasks: list[_Task]) -> None:
+    """Refuse an option that applies to none of the inputs (or outputs) of the run."""
+    for opt in _SCOPED:
+        if opt.given(args) and not any(opt.key_for(t) is not None for t in tasks):
+            what = "inputs" if opt.side == "input" else "outputs"
+            raise UsageError(f"{opt.flag} applies to {opt.owners()} only, and none of the {what} is")
 
 
 def _plan(args) -> tuple[list[_Task], bool]:
@@ -419,15 +627,16 @@ def _plan(args) -> tuple[list[_Task], bool]:
     out: Path = args.output
     if not batch and out.is_dir():
         batch = True
+    if batch and args.dask:
+        raise UsageError("--dask takes one input file")
+    single = len(files) == 1 and not batch
+    geo = _geo_options(to_crs=args.to_crs, input_format=args.input_format,
+                       output_format=args.format if not batch else None,
+                       processes=args.jobs if single else None, dask=args.dask,
+                       skip_failed=args.skip_failed)
     opts = dict(r=args.radius, init=args.init, tolerance=args.tolerance, flatten=args.flatten,
-                layers=args.layers, threshold=args.threshold, invert=args.invert, labels=args.labels,
-                stack=args.stack, trace=args.trace)
-    image_only = [name for name, on in (("--threshold", args.threshold is not None),
-                                        ("--invert", args.invert), ("--labels", args.labels),
-                                        ("--stack", args.stack), ("--trace", args.trace != "exact")) if on]
-    if image_only and not any(f.suffix.lower() in _MASK_IN for f in files):
-        raise UsageError(f"{image_only[0]} is for image inputs ({', '.join(_MASK_IN)})")
-    cad = _cad_options(args)
+                layers=args.layers, trace=args.trace or "exact", geo=geo, quiet=args.quiet,
+                progress=not batch and not args.quiet and (args.progress or sys.stderr.isatty()))
     if batch:
         if out.exists() and not out.is_dir():
             raise UsageError(f"{str(out)!r} exists and is not a folder")
@@ -442,7 +651,8 @@ def _plan(args) -> tuple[list[_Task], bool]:
                 ext = own if own in _VECTOR_OUT else ".svg"
             targets.append(out / (f.stem + ext))
     else:
-        if args.format and out.suffix.lower() != args.format:
+        known = out.suffix.lower() in _VECTOR_OUT + _MASK_OUT
+        if args.format and known and out.suffix.lower() != args.format:
             raise UsageError(f"--format {args.format[1:]} disagrees with the output {str(out)!r}")
         targets = [out]
     resolved_in = {}
@@ -453,7 +663,7 @@ def _plan(args) -> tuple[list[_Task], bool]:
             pass
     seen: dict[Path, Path] = {}
     tasks = []
-    for f, t in zip(files, targets):
+    for f, t in zip(files, targets, strict=True):
         rt = t.resolve()
         hit = resolved_in.get(rt) or next((g for g in files if _same_file(g, t)), None)
         if hit is not None:
@@ -461,53 +671,12 @@ def _plan(args) -> tuple[list[_Task], bool]:
         if rt in seen:
             raise UsageError(f"{str(seen[rt])!r} and {str(f)!r} would both be written to {str(t)!r}")
         seen[rt] = f
-        tasks.append(_Task(f, t, **opts, **cad))
-    _check_cad_options(args, tasks)
+        tasks.append(_Task(f, t, route=_route(f, args.input_format), **opts))
+    _check_scoped(args, tasks)
+    tasks = [_scoped_options(args, t) for t in tasks]
     if batch:
         _out_folder(out)
     return tasks, batch
-
-
-# Options of the CAD and cut-file group: (attribute, option, reader or writer keyword, input or output).
-_CAD_OPTIONS = (("layer", "--layer", "layers", "input"), ("nesting", "--nesting", "nesting", "input"),
-                ("gap", "--gap", "gap", "input"),
-                ("dxf_entities", "--dxf-entities", "dxf_entities", "output"),
-                ("keep_style", "--keep-style", "keep_style", "output"),
-                ("stroke_only", "--stroke-only", "stroke_only", "output"))
-
-
-def _cad_options(args) -> dict:
-    read, write = [], []
-    for attr, _, key, side in _CAD_OPTIONS:
-        value = getattr(args, attr, None)
-        if value is None or value is False:
-            continue
-        (read if side == "input" else write).append((key, tuple(value) if isinstance(value, list) else value))
-    return {"read_options": tuple(read), "write_options": tuple(write)}
-
-
-def _check_cad_options(args, tasks) -> None:
-    """Refuse an option that applies to none of the inputs (or outputs) of the run."""
-    from . import io
-
-    def fmt(path):
-        try:
-            return io.format_of(path)
-        except ValueError:
-            return None
-
-    for attr, option, key, side in _CAD_OPTIONS:
-        value = getattr(args, attr, None)
-        if value is None or value is False:
-            continue
-        formats = [fmt(t.source if side == "input" else t.target) for t in tasks]
-        takes = [f for f in formats if f is not None
-                 and key in (f.read_options if side == "input" else f.write_options)]
-        if not takes:
-            owners = " and ".join(f.name.upper() for f in io.FORMATS.values()
-                                  if key in (f.read_options if side == "input" else f.write_options))
-            what = "inputs" if side == "input" else "outputs"
-            raise UsageError(f"{option} applies to {owners} {side} only, and none of the {what} is")
 
 
 def _same_file(a: Path, b: Path) -> bool:
@@ -562,7 +731,7 @@ def _report(outcome: _Outcome, progress: _Progress) -> None:
         progress.line(f"vectortighten: warning: {w}")
     if outcome.error is not None:
         progress.line(f"vectortighten: error: {outcome.error}")
-    else:
+    elif not outcome.task.quiet:
         progress.line(outcome.summary, stream=sys.stdout)
 
 
@@ -575,10 +744,11 @@ def _cmd_tighten(args) -> int:
         if outcome.error is not None:
             print(f"vectortighten: error: {outcome.error}", file=sys.stderr)
             return 1 if outcome.internal else 2
-        print(outcome.summary)
+        if not args.quiet:
+            print(outcome.summary)
         return 0
     jobs = min(args.jobs or os.cpu_count() or 1, len(tasks))
-    progress = _Progress(len(tasks), enabled=args.progress or sys.stderr.isatty())
+    progress = _Progress(len(tasks), enabled=not args.quiet and (args.progress or sys.stderr.isatty()))
     outcomes: list[_Outcome] = []
     try:
         if jobs == 1:

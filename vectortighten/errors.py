@@ -5,10 +5,14 @@ not know this package.
 """
 
 __all__ = [
+    "CRSError",
     "ConvergenceWarning",
+    "EmptyTighteningWarning",
+    "FeatureErrorWarning",
     "GeometryTypeError",
     "InvalidGeometryError",
     "InvalidRadiusError",
+    "PassThroughWarning",
     "RepairWarning",
     "TighteningError",
 ]
@@ -39,3 +43,23 @@ class ConvergenceWarning(UserWarning):
 
     ``Tightening.converged`` is then False, and ``Tightening.verify()`` says where the result falls short.
     """
+
+
+class CRSError(TighteningError, ValueError):
+    """A geodata layer's coordinate reference system is missing, unreadable, or in degrees.
+
+    ``r`` is a length in the layer's CRS units, so a geographic CRS (degrees) must first be reprojected
+    to a projected one (``to_crs``, or ``--to-crs`` on the command line).
+    """
+
+
+class EmptyTighteningWarning(UserWarning):
+    """Some features of a batch (`tighten_all`) have an empty result; their rows keep an empty geometry."""
+
+
+class PassThroughWarning(UserWarning):
+    """Some geometries of a batch are not polygonal (points, lines) and were passed through unchanged."""
+
+
+class FeatureErrorWarning(UserWarning):
+    """Some features of a batch failed (``errors="warn"``) and were given an empty geometry."""

@@ -1,23 +1,29 @@
 """Reading shapes from files and writing tightenings to them, through one table of formats.
 
-Each family of files has its module — `svg`, `dxf`, `geo` (WKT and GeoJSON), `mask` (mask and label
-images: PNG, TIFF, BMP, GIF, JPEG, for the pixel method or traced to vectors), `picture` (a rendering) — and registers what it reads and writes in `FORMATS`, keyed by
-the format's name with the extensions it owns. `read_shape` and `write_result` look the extension up
-there (``format=`` overrides it); the command line reads the same table for ``--format`` and its help.
+Each family of files has its module — `svg`, `dxf`, `geo` (WKT and the geodata formats: GeoPackage,
+Shapefile, GeoJSON, FlatGeobuf, GeoParquet), `mask` (mask and label images: PNG, TIFF, BMP, GIF, JPEG, for
+the pixel method or traced to vectors), `picture` (a rendering) — and registers what it reads and writes
+in `FORMATS`, keyed by the format's name with the extensions it owns. `read_source`, `read_shape`,
+`read_features`, `write_result` and `write_features` look the extension up there (``format=`` overrides
+it); the command line reads the same table for ``--format``, its help and its option checks.
+
+A reader hands over what must travel to the writer, in one vocabulary (see `Source`): `read_source`
+gives a `Source` (the shape, its exact boundary as `Loop`s where the file has one, and ``meta``: units,
+page, position, styles, CRS, layer), and ``write_result(..., meta=source.meta)`` puts the result back in
+the input's frame (a DXF in the input's ``$INSUNITS`` at its coordinates, an SVG on the input's page, a
+GeoPackage in the input's CRS). A format that holds *features* (a geometry each, with attributes, in a
+layer with a CRS) also has ``read_features`` and ``write_features``: `read_features` returns `Features`
+(geometries, attributes and the same ``meta``) and `write_features` writes them back with everything but
+the geometry unchanged. Options that only some formats take are declared in their `Format`
+(``read_options``, ``write_options``) and refused elsewhere.
 
 Every writer goes through `atomic_write` or `atomic_path`: the output is written to a temporary file in
 the same folder and renamed over the target only when complete, so a failed run leaves no partial file
 and an existing output untouched.
 
-A reader can also hand over what must travel to the writer: `read_source` gives a `Source` (the shape,
-its exact boundary as `Loop`s where the file has one, and ``meta``: units, page, position, styles), and
-``write_result(..., meta=source.meta)`` puts the result back in the input's frame (a DXF in the input's
-``$INSUNITS`` at its coordinates, an SVG on the input's page). Options that only some formats take are
-declared in their `Format` (``read_options``, ``write_options``) and refused elsewhere.
-
 Optional packages (svgelements and defusedxml for SVG, ezdxf for DXF and for joining an SVG's loose
-outlines) are imported only when a file of theirs is met; without them a `MissingDependencyError` names
-the extra to install.
+outlines, pyogrio, GeoPandas, pyproj and pyarrow for geodata) are imported only when a file of theirs is
+met; without them a `MissingDependencyError` names the extra to install.
 """
 
 from __future__ import annotations
@@ -32,9 +38,9 @@ from . import dxf, geo, picture, svg
 from ._common import LAYERS, MissingDependencyError, _check_layers, _polygonal, atomic_path, atomic_write
 from ._fill import fill_rings
 from ._outline import DEFAULT_GAP
-from ._source import INSUNITS, MM_PER_UNIT, Source
+from ._source import INSUNITS, MM_PER_UNIT, Features, Source
 from .dxf import DXF_ENTITIES, read_dxf
-from .mask import read_mask, tighten_image_file, trace_tighten, write_mask
+from .mask import MASK_READ_OPTIONS, read_mask, tighten_image_file, trace_tighten, write_mask
 from .svg import DEFAULT_FLATTEN, NESTINGS, load_svg, read_svg, svg_document, svg_unit
 
 __all__ = [
@@ -42,6 +48,7 @@ __all__ = [
     "DEFAULT_GAP",
     "DXF_ENTITIES",
     "FORMATS",
+    "Features",
     "INSUNITS",
     "LAYERS",
     "MM_PER_UNIT",
@@ -57,6 +64,7 @@ __all__ = [
     "format_of",
     "load_svg",
     "read_dxf",
+    "read_features",
     "read_mask",
     "read_shape",
     "read_source",
@@ -65,6 +73,7 @@ __all__ = [
     "svg_unit",
     "tighten_image_file",
     "trace_tighten",
+    "write_features",
     "write_mask",
     "write_result",
 ]
@@ -82,14 +91,24 @@ class Format:
         Lower-case, with the dot; the first is the one an output is named with.
     read : callable or None
         ``read(path, *, flatten, **read_options) -> Source`` for a vector format (a reader may also return
-        a bare Polygon or MultiPolygon, which `read_source` wraps); None if not readable.
+        a bare Polygon or MultiPolygon, which `read_source` wraps); None if not readable as one shape.
     write : callable or None
         ``write(result, path, *, layers, unit, meta, **write_options)``, atomic; None if not writable.
     kind : {"vector", "mask"}
-        A vector format holds shapes for the exact engine; a mask format holds images for the pixel method.
+        A vector format holds shapes (or features) for the exact engine; a mask format holds images for
+        the pixel method (read by `read_mask` and `tighten_image_file`).
     read_options, write_options : tuple of str
         The keyword options only this format's reader or writer takes (e.g. ``"layers"`` for DXF input,
-        ``"keep_style"`` for SVG output); `read_source` and `write_result` refuse them for other formats.
+        ``"layer"`` and ``"crs"`` for a geodata layer, ``"threshold"`` for an image, ``"keep_style"`` for
+        SVG output); `read_source`, `read_features`, `write_result` and `write_features` refuse them for
+        other formats, and so does the command line.
+    read_features : callable or None
+        ``read_features(path, **read_options) -> Features | None`` for a format that holds features (None
+        back: this file holds one plain geometry, read it with ``read``); None if the format holds shapes.
+    write_features : callable or None
+        ``write_features(features, path)``, atomic, every attribute and ``meta`` entry it knows kept.
+    label : str
+        What messages call it ("GeoPackage"); default the upper-case name.
     """
 
     name: str
@@ -99,6 +118,19 @@ class Format:
     kind: str = "vector"
     read_options: tuple[str, ...] = ()
     write_options: tuple[str, ...] = ()
+    read_features: Callable | None = None
+    write_features: Callable | None = None
+    label: str = ""
+
+    @property
+    def title(self) -> str:
+        """The format's name in messages."""
+        return self.label or self.name.upper()
+
+    @property
+    def holds_features(self) -> bool:
+        """Whether files of this format are layers of features (geodata)."""
+        return self.read_features is not None
 
 
 def _write_text(text_of: Callable) -> Callable:
@@ -136,23 +168,58 @@ def _read_dxf(path, flatten=None, **options) -> Source:
     return dxf.read_dxf(path, flatten=flatten, **options)
 
 
+#: What a geodata layer's reader takes: the layer of a file that has several, and the CRS of a layer
+#: that has none (or a wrong one).
+_GEODATA_READ_OPTIONS = ("layer", "crs")
+
+
+def _geodata(name: str, extensions: tuple[str, ...]) -> Format:
+    """A geodata format: features read and written through pyogrio (GeoParquet through GeoPandas)."""
+
+    def read(path, flatten=None, **options) -> Source:
+        source = geo.read_source(path, name, **options)
+        source.shape = _polygonal(source.shape, str(path))
+        return source
+
+    def read_features(path, **options):
+        if name == "geojson" and geo.geojson_is_plain(path):
+            return None
+        return geo.read_features(path, name, **options)
+
+    def write_features(features, path):
+        geo.write_features(features, path, name)
+
+    def write(result, path, *, layers=(), unit=None, meta=None):
+        geo.write_features(geo.result_features(result, meta), path, name)
+
+    return Format(name, extensions, read, write, read_options=_GEODATA_READ_OPTIONS,
+                  read_features=read_features, write_features=write_features, label=geo.GEODATA[name][1])
+
+
+def _mask(name: str, extensions: tuple[str, ...], write: Callable | None = None) -> Format:
+    return Format(name, extensions, None, write, kind="mask", read_options=MASK_READ_OPTIONS)
+
+
 #: Every format, by name. A mask format (PNG, TIFF, BMP, GIF, JPEG) is read by `read_mask` or
-#: `tighten_image_file`; a vector result is drawn into a PNG.
+#: `tighten_image_file`; a vector result is drawn into a PNG. The geodata formats hold features.
 FORMATS: dict[str, Format] = {
     "svg": Format("svg", (".svg",), _read_svg,
                   _write_text(lambda result, meta=None, **kw: svg.svg_document(result, meta=meta, **kw)),
                   read_options=("nesting", "gap"), write_options=("keep_style", "stroke_only")),
     "wkt": Format("wkt", (".wkt",), _read_geometry(geo.read_wkt),
                   _write_text(lambda result, **_: geo.wkt_text(result))),
-    "geojson": Format("geojson", (".geojson", ".json"), _read_geometry(geo.read_geojson),
-                      _write_text(lambda result, **_: geo.geojson_text(result))),
+    "geojson": _geodata("geojson", (".geojson", ".json")),
+    "gpkg": _geodata("gpkg", (".gpkg",)),
+    "shp": _geodata("shp", (".shp",)),
+    "fgb": _geodata("fgb", (".fgb",)),
+    "parquet": _geodata("parquet", (".parquet", ".geoparquet")),
     "dxf": Format("dxf", (".dxf",), _read_dxf, _write_dxf, read_options=("layers", "gap"),
                   write_options=("dxf_entities",)),
-    "png": Format("png", (".png",), None, _write_picture, kind="mask"),
-    "tiff": Format("tiff", (".tif", ".tiff"), None, None, kind="mask"),
-    "bmp": Format("bmp", (".bmp",), None, None, kind="mask"),
-    "gif": Format("gif", (".gif",), None, None, kind="mask"),
-    "jpeg": Format("jpeg", (".jpg", ".jpeg"), None, None, kind="mask"),
+    "png": _mask("png", (".png",), _write_picture),
+    "tiff": _mask("tiff", (".tif", ".tiff")),
+    "bmp": _mask("bmp", (".bmp",)),
+    "gif": _mask("gif", (".gif",)),
+    "jpeg": _mask("jpeg", (".jpg", ".jpeg")),
 }
 
 #: Extensions `read_shape` understands (images go to `read_mask` or `tighten_image_file` instead).
@@ -198,8 +265,8 @@ def _check_options(fmt: Format, options: dict, allowed: tuple[str, ...], what: s
         takes = {k for f in FORMATS.values() for k in options_of(f)}
         key = bad[0]
         if key in takes:
-            owners = [f.name.upper() for f in FORMATS.values() if key in options_of(f)]
-            raise ValueError(f"{key} is an option of {' and '.join(owners)} {what}, not {fmt.name.upper()}")
+            owners = [f.title for f in FORMATS.values() if key in options_of(f)]
+            raise ValueError(f"{key} is an option of {' and '.join(owners)} {what}, not {fmt.title}")
         raise TypeError(f"unknown {what} option {key!r}")
 
 
@@ -209,7 +276,10 @@ def read_source(path, *, flatten: float | None = None, format: str | None = None
     Parameters
     ----------
     path : str or Path
-        ``.svg``, ``.dxf``, ``.wkt``, ``.geojson`` or ``.json``.
+        ``.svg``, ``.dxf``, ``.wkt``, ``.geojson`` or ``.json``, ``.gpkg``, ``.shp``, ``.fgb``, ``.parquet``.
+        The features of a geodata layer are repaired one by one and then united into one shape: to
+        tighten them one by one, use `read_features` and `vectortighten.tighten_all` (the command line
+        does).
     flatten : float, optional
         SVG and DXF: largest distance between a curve and its chords, in the drawing's units. Default
         `DEFAULT_FLATTEN` times the diagonal of the drawing.
@@ -217,12 +287,14 @@ def read_source(path, *, flatten: float | None = None, format: str | None = None
         The format's name (see `FORMATS`), when the extension does not tell.
     **options
         Options of the format's reader (its `Format.read_options`): SVG ``nesting`` (see `load_svg`) and
-        ``gap``; DXF ``layers`` and ``gap`` (see `read_dxf`).
+        ``gap``; DXF ``layers`` and ``gap`` (see `read_dxf`); geodata ``layer`` and ``crs`` (see
+        `read_features`).
 
     Returns
     -------
     Source
-        ``shape``, ``loops`` (None where the reader keeps no exact boundary) and ``meta``.
+        ``shape``, ``loops`` (None where the reader keeps no exact boundary) and ``meta`` (for geodata:
+        ``crs``, ``units``, ``layer``, which `write_result` takes back to a geodata output).
 
     Raises
     ------
@@ -255,7 +327,7 @@ def read_source(path, *, flatten: float | None = None, format: str | None = None
         raise ValueError(f"{path}: a {fmt.name.upper()} is a mask for the pixel method; "
                          "read it with read_mask")
     if fmt.read is None:
-        raise ValueError(f"{path}: {fmt.name.upper()} files cannot be read yet; "
+        raise ValueError(f"{path}: {fmt.title} files cannot be read yet; "
                          f"expected one of {', '.join(READ_FORMATS + _MASK_IN)}")
     _check_options(fmt, options, fmt.read_options, "input")
     got = fmt.read(path, flatten=flatten, **options)
@@ -267,13 +339,14 @@ def read_source(path, *, flatten: float | None = None, format: str | None = None
 
 def read_shape(path, *, flatten: float | None = None, format: str | None = None,
                **options) -> Polygon | MultiPolygon:
-    """Read a polygonal shape from a vector file (SVG, DXF, WKT, GeoJSON): ``read_source(...).shape``.
+    """Read a polygonal shape from a vector file (SVG, DXF, WKT, geodata): ``read_source(...).shape``.
 
     Parameters
     ----------
     path : str or Path
-        ``.svg``, ``.dxf``, ``.wkt``, ``.geojson`` or ``.json``. GeoJSON may be a bare geometry, a Feature
-        or a FeatureCollection; all polygons are united.
+        ``.svg``, ``.dxf``, ``.wkt``, ``.geojson`` or ``.json`` (a bare geometry, a Feature or a
+        FeatureCollection), ``.gpkg``, ``.shp``, ``.fgb``, ``.parquet``. The features of a geodata file are
+        repaired one by one and then united into one shape.
     flatten : float, optional
         SVG and DXF: largest distance between a curve and its chords, in the drawing's units. Default
         `DEFAULT_FLATTEN` times the diagonal of the drawing.
@@ -316,10 +389,11 @@ def write_result(result, path, *, layers=(), unit: str | None = None, format: st
     ----------
     result : Tightening
     path : str or Path
-        ``.svg`` (exact arcs, see `svg_document`), ``.wkt`` and ``.geojson`` / ``.json`` (the sampled
-        geometry, within the result's tolerance), ``.dxf`` (LINE and ARC entities on layer
-        ``TIGHTENING``; each ARC has radius exactly r and runs counter-clockwise, as DXF requires) or
-        ``.png`` (a picture).
+        ``.svg`` (exact arcs, see `svg_document`), ``.wkt`` and the geodata formats ``.geojson`` /
+        ``.json``, ``.gpkg``, ``.shp``, ``.fgb``, ``.parquet`` (the sampled geometry, within the result's
+        tolerance; geodata as one feature whose attributes are r, init, perimeter, area and the counts),
+        ``.dxf`` (LINE and ARC entities on layer ``TIGHTENING``; each ARC has radius exactly r and runs
+        counter-clockwise, as DXF requires) or ``.png`` (a picture).
     layers : iterable of {"input", "core", "mortar"}
         SVG, DXF and PNG: also draw these, each in its own layer.
     unit : {"mm", "cm", "in", "pt", "pc", "px"}, optional
@@ -331,7 +405,8 @@ def write_result(result, path, *, layers=(), unit: str | None = None, format: st
     meta : dict, optional
         The `Source.meta` of the input (`read_source`): a DXF is written in the input's units and at its
         position (an SVG input mapped as Inkscape's DXF export maps it: y up, the page's bottom-left corner
-        at the origin); an SVG keeps the input's page (``width``, ``height``, ``viewBox``).
+        at the origin); an SVG keeps the input's page (``width``, ``height``, ``viewBox``); a geodata
+        output the input's CRS and layer name.
     **options
         Options of the output format's writer: DXF ``dxf_entities`` (``"lines-arcs"`` or
         ``"lwpolyline"``, see `vectortighten.io.dxf.write_dxf`); SVG ``keep_style`` and ``stroke_only``
@@ -358,3 +433,85 @@ def write_result(result, path, *, layers=(), unit: str | None = None, format: st
     svg._check_unit(unit)
     _check_options(fmt, options, fmt.write_options, "output")
     fmt.write(result, path, layers=layers, unit=unit, meta=meta, **options)
+
+
+def read_features(path, *, format: str | None = None, **options) -> Features:
+    """Read the features of one layer of a geodata file.
+
+    GeoPackage, Shapefile, GeoJSON, FlatGeobuf or GeoParquet (see `FORMATS`).
+
+    Parameters
+    ----------
+    path : str or Path
+    format : str, optional
+        The format's name (see `FORMATS`), when the extension does not tell.
+    **options
+        The reader's options (`Format.read_options`): ``layer``, the layer when the file has several;
+        ``crs``, the CRS of the coordinates, replacing the file's (see `vectortighten.io.geo.read_features`).
+
+    Returns
+    -------
+    Features
+        Geometries (invalid polygons repaired one by one, with a counted `RepairWarning`), attributes,
+        and ``meta`` with ``crs``, ``units``, ``layer`` and ``geometry_name``. A bare-geometry GeoJSON gives
+        one feature with no attributes and no CRS.
+
+    Raises
+    ------
+    ValueError
+        Not a geodata format; several layers and no ``layer``; no such layer; an option of another
+        format.
+    InvalidGeometryError
+        The file is corrupt or has no geometry column.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d) / "s.geojson"
+    ...     _ = p.write_text('{"type": "Polygon", "coordinates": [[[0, 0], [4, 0], [4, 4], [0, 4], [0, 0]]]}')
+    ...     f = read_features(p)
+    >>> len(f), f.meta["crs"], f.geometry[0].area
+    (1, None, 16.0)
+    """
+    path = Path(path)
+    fmt = format_of(path, format)
+    if not fmt.holds_features:
+        raise ValueError(f"{path}: a {fmt.title} file holds one shape, not features; read it with "
+                         "read_source")
+    _check_options(fmt, options, fmt.read_options, "input")
+    features = fmt.read_features(path, **options)
+    if features is None:
+        import numpy as np
+
+        source = read_source(path, format=fmt.name, **options)
+        features = Features(np.array([source.shape], dtype=object), None,
+                            {**source.meta, "layer": path.stem})
+    return features
+
+
+def write_features(features: Features, path, *, format: str | None = None) -> None:
+    """Write `Features` to a geodata file, atomically, with their attributes and CRS unchanged.
+
+    Raises
+    ------
+    ValueError
+        Not a geodata format, or GDAL refuses the features (nothing is written then).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, numpy as np
+    >>> from shapely.geometry import box
+    >>> f = Features(np.array([box(0, 0, 2, 2)], dtype=object), meta={"crs": "EPSG:32631", "layer": "x"})
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     write_features(f, pathlib.Path(d) / "x.gpkg")
+    ...     back = read_features(pathlib.Path(d) / "x.gpkg")
+    >>> back.meta["crs"].to_epsg(), back.meta["units"], back.geometry[0].area
+    (32631, 'm', 4.0)
+    """
+    path = Path(path)
+    fmt = format_of(path, format)
+    if fmt.write_features is None:
+        exts = ", ".join(e for f in FORMATS.values() if f.write_features for e in f.extensions)
+        raise ValueError(f"{path}: {fmt.title} does not hold features; write features to one of {exts}")
+    fmt.write_features(features, path)

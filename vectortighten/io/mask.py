@@ -6,9 +6,10 @@ An image input (PNG, TIFF, BMP, GIF, JPEG) is read by `raster.read_image` exactl
   `raster.tighten_mask` or a label image with `raster.tighten_labels` (``labels=True``), and written
   back in the input's size, dtype and values (0/1 in, 0/1 out; 16-bit in, 16-bit out; labels in, the
   same labels out);
-* to a vector output (SVG, WKT, GeoJSON, DXF, and whatever else `vectortighten.io.write_result` writes):
-  traced (`trace_tighten`). A label image (``labels=True``) goes to GeoJSON only, one feature a label
-  (`labels_geojson`). ``trace="exact"`` (the default) tightens the union of the mask's pixel squares
+* to a vector output (SVG, WKT, DXF, the geodata formats, whatever `vectortighten.io.write_result`
+  writes): traced (`trace_tighten`). A label image (``labels=True``) goes to a geodata format only
+  (GeoJSON, GeoPackage, …), one feature a label (`labels_features`). ``trace="exact"`` (the default)
+  tightens the union of the mask's pixel squares
   with the exact engine, so the output has true arcs of radius r; ``trace="contours"`` runs the pixel
   method and writes its sub-pixel contour (straight segments between pixel edges). Coordinates are pixels:
   x is the column, y = −row (the image the right way up; SVG flips y back, so an SVG output overlays the
@@ -37,8 +38,9 @@ __all__ = [
     "MASK_READ_EXTENSIONS",
     "MASK_WRITE_EXTENSIONS",
     "TRACES",
+    "MASK_READ_OPTIONS",
     "TracedTightening",
-    "labels_geojson",
+    "labels_features",
     "read_mask",
     "tighten_image_file",
     "trace_pixels",
@@ -52,6 +54,10 @@ MASK_READ_EXTENSIONS = (".png", ".tif", ".tiff", ".bmp", ".gif", ".jpg", ".jpeg"
 MASK_WRITE_EXTENSIONS = (".png", ".tif", ".tiff", ".bmp")
 #: How a mask becomes vectors: the exact tightening of its pixel squares, or the pixel method's contours.
 TRACES = ("exact", "contours")
+#: The options of reading an image (its formats' `vectortighten.io.Format.read_options`): ``threshold``
+#: and ``invert`` (how a pixel is inside, `read_mask`), ``labels`` (a label image), ``stack`` (a stack of
+#: slices), as `tighten_image_file` takes them.
+MASK_READ_OPTIONS = ("threshold", "invert", "labels", "stack")
 
 
 def _raster(*names: str):
@@ -274,38 +280,37 @@ def trace_tighten(mask, r: float, *, trace: str = "exact", init: str = "core",
     return TracedTightening(_loops_of(geometry), geometry, float(r), init, res, mask=m)
 
 
-def labels_geojson(out, res=None) -> str:
-    """A tightened label image as a GeoJSON FeatureCollection: one Feature a label, its pixel squares.
+def labels_features(out, res=None):
+    """A tightened label image as `Features`: one feature a label, the union of its pixels' squares.
 
     Each label's region is traced exactly (`trace_pixels`: the union of its pixels' squares, in pixel
     coordinates x = column, y = −row), so neighbouring labels share their edges exactly and the features
-    tile the labelled area with no gap and no overlap. Properties: ``label``, ``area`` (pixels), and with
-    ``res`` (a `raster.LabelTightening`) ``area_in`` and ``r``. Labels with no pixel left have no feature.
+    tile the labelled area with no gap and no overlap. Attributes: ``label``, ``area`` (pixels), and with
+    ``res`` (a `raster.LabelTightening`) ``area_in``, ``r`` and ``init``. Labels with no pixel left have no
+    feature. No CRS: the coordinates are pixels. `vectortighten.io.write_features` writes them to any
+    geodata format (GeoJSON, GeoPackage, …); needs pandas (the ``geo`` extra).
 
     Examples
     --------
-    >>> import numpy as np, json
+    >>> import numpy as np
     >>> img = np.zeros((4, 6), np.uint8); img[1:3, 1:3] = 5; img[1:3, 3:5] = 9
-    >>> fc = json.loads(labels_geojson(img))
-    >>> [(f["properties"]["label"], f["properties"]["area"]) for f in fc["features"]]
-    [(5, 4), (9, 4)]
+    >>> f = labels_features(img)
+    >>> f.attributes["label"].tolist(), f.attributes["area"].tolist(), [g.area for g in f.geometry]
+    ([5, 9], [4, 4], [4.0, 4.0])
     """
-    import json
+    from ._common import _require
+    from ._source import Features
 
-    from shapely.geometry import mapping
-
+    pd = _require("pandas", "geo", "label features")
     out = np.asarray(out)
     values, counts = np.unique(out[out != 0], return_counts=True)
-    area_in = {}
+    columns = {"label": [v.item() for v in values], "area": [int(n) for n in counts]}
     if res is not None:
         area_in = {v.item(): int(a) for v, a in zip(res.values, res.area_in, strict=True)}
-    features = []
-    for v, n in zip(values, counts, strict=True):
-        props = {"label": v.item(), "area": int(n)}
-        if res is not None:
-            props.update(area_in=area_in.get(v.item()), r=res.r, init=res.init)
-        features.append({"type": "Feature", "geometry": mapping(trace_pixels(out == v)), "properties": props})
-    return json.dumps({"type": "FeatureCollection", "features": features})
+        columns.update(area_in=[area_in.get(v.item()) for v in values], r=[float(res.r)] * len(values),
+                       init=[str(res.init)] * len(values))
+    geometry = np.array([trace_pixels(out == v) for v in values], dtype=object)
+    return Features(geometry, pd.DataFrame(columns), {"crs": None, "units": None, "layer": "labels"})
 
 
 # ---------------------------------------------------------------------------------------------------------
@@ -330,7 +335,7 @@ def tighten_image_file(source, target, *, r: float, init: str = "core", threshol
         An image: ``.png``, ``.tif``/``.tiff``, ``.bmp``, ``.gif``, ``.jpg``/``.jpeg``.
     target : path
         ``.png``, ``.tif``/``.tiff``, ``.bmp`` (the tightened image, in the input's values), or a vector
-        format of `vectortighten.io.write_result` (``.svg``, ``.wkt``, ``.geojson``, ``.dxf``, …).
+        format of `vectortighten.io.write_result` (``.svg``, ``.wkt``, ``.geojson``, ``.gpkg``, ``.dxf``, …).
     r : float
         Radius, pixels.
     init : {"core", "input", "mason"}
@@ -339,8 +344,8 @@ def tighten_image_file(source, target, *, r: float, init: str = "core", threshol
     invert : bool
         Swap inside and outside.
     labels : bool
-        Tighten every label of a label image (`raster.tighten_labels`); to an image, or to GeoJSON
-        (`labels_geojson`).
+        Tighten every label of a label image (`raster.tighten_labels`); to an image, or to a geodata
+        format, one feature a label (`labels_features`).
     stack : bool
         Tighten each slice of a stack (multi-page TIFF, animated GIF); TIFF output only.
     trace : {"exact", "contours"}
@@ -373,7 +378,7 @@ def tighten_image_file(source, target, *, r: float, init: str = "core", threshol
     ext = target.suffix.lower()
     to_image = ext in MASK_WRITE_EXTENSIONS
     if not to_image:
-        from . import WRITE_FORMATS
+        from . import FORMATS, WRITE_FORMATS, format_of
 
         if ext in (".jpg", ".jpeg", ".gif"):
             raise ValueError(f"{target}: {ext[1:].upper()} cannot hold a mask's values exactly (lossy or "
@@ -382,9 +387,10 @@ def tighten_image_file(source, target, *, r: float, init: str = "core", threshol
             raise ValueError(f"{target}: unsupported output format {ext or '(none)'!r}; an image input is "
                              f"written as an image ({', '.join(MASK_WRITE_EXTENSIONS)}) or as vectors "
                              f"({', '.join(e for e in WRITE_FORMATS if e not in MASK_WRITE_EXTENSIONS)})")
-        if labels and ext not in (".geojson", ".json"):
+        if labels and format_of(target).write_features is None:
+            geodata = ", ".join(e for f in FORMATS.values() if f.write_features for e in f.extensions)
             raise ValueError(f"{target}: --labels writes a label image ({', '.join(MASK_WRITE_EXTENSIONS)}) "
-                             "or GeoJSON (one feature a label); not " + ext)
+                             f"or geodata ({geodata}; one feature a label); not {ext}")
         if labels and (trace != "exact" or tolerance is not None or layers):
             raise ValueError(f"{target}: labels are traced as the pixel squares of their tightened regions; "
                              "--trace, --tolerance and --layers do not apply")
@@ -407,10 +413,10 @@ def tighten_image_file(source, target, *, r: float, init: str = "core", threshol
         like = replace(img, palette=None, transparency=None, photometric=None)
     names = [str(source)] if len(slices) == 1 else [f"{source} slice {i}" for i in range(len(slices))]
     if not to_image and labels:
+        from . import write_features
+
         out, res = raster.tighten_labels(slices[0], r, init=init, return_result=True, name=names[0])
-        text = labels_geojson(out, res)
-        with atomic_path(target) as tmp:
-            tmp.write_text(text, encoding="utf-8")
+        write_features(labels_features(out, res), target)
         kept = int((res.area_out > 0).sum())
         return f"{target}: {kept} of {len(res.values)} label(s) kept, traced as {kept} feature(s)"
     if not to_image:
