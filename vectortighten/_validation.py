@@ -10,9 +10,20 @@ from shapely.geometry import MultiPolygon, Polygon
 from shapely.geometry.base import BaseGeometry
 
 from .errors import GeometryTypeError, InvalidGeometryError, InvalidRadiusError, RepairWarning
+from .errors import ResourceLimitError
+from .limits import (
+    MAX_COORDINATE,
+    MAX_OUTPUT_VERTICES,
+    MIN_R_MAGNITUDE,
+    MIN_R_SIZE,
+    MIN_TOLERANCE_R,
+    chords_per_turn,
+    min_radius,
+    min_tolerance,
+)
 from .tolerances import DEFAULT_TOLERANCE_R, MAX_QUAD_SEGS
 
-__all__ = ["check_radius", "check_shape", "check_tolerance", "quad_segs_for"]
+__all__ = ["check_output_size", "check_radius", "check_resolution", "check_shape", "check_tolerance", "quad_segs_for"]
 
 
 def check_radius(r, name: str = "r") -> float:
@@ -25,14 +36,54 @@ def check_radius(r, name: str = "r") -> float:
     return value
 
 
-def check_tolerance(tolerance, r: float) -> float:
-    """Return the chord tolerance to use for radius ``r`` (``None`` means the documented default)."""
+def check_tolerance(tolerance, r: float, S=None) -> float:
+    """Return the chord tolerance to use for radius ``r`` (``None`` means the documented default).
+
+    With the shape ``S``, a tolerance finer than `vectortighten.limits.min_tolerance` (what doubles can
+    resolve at the shape's coordinates, or about 7·10^5 chords a full turn) is refused too.
+    """
     if tolerance is None:
         return DEFAULT_TOLERANCE_R * r
     tol = check_radius(tolerance, "tolerance")
     if tol >= r:
         raise InvalidRadiusError(f"tolerance must be smaller than r = {r!r}, got {tolerance!r}")
+    if S is not None:
+        limit = min_tolerance(S, r)
+        if tol < limit:
+            raise InvalidRadiusError(
+                f"tolerance = {tolerance!r} is below what doubles resolve here: it must be at least "
+                f"{limit:.3g} (the larger of {MIN_TOLERANCE_R:g}·r and 1e-15 of the largest coordinate)")
     return tol
+
+
+def check_output_size(S, r: float, tolerance: float) -> None:
+    """Refuse a tolerance whose sampled output could exceed `vectortighten.limits.MAX_OUTPUT_VERTICES`.
+
+    Each loop of a tightening turns by a full turn in arcs of radius r at least, and each boundary ring
+    of S gives at most one loop per vertex of it that a loop can wrap; the estimate is the chords of one
+    full turn at ``tolerance`` for every ring of S plus the input's own vertices. A tolerance that gives
+    more is refused before anything is computed.
+    """
+    n_rings = int(shapely.get_num_interior_rings(shapely.get_parts(S)).sum()) + shapely.get_num_geometries(S)
+    estimate = chords_per_turn(r, tolerance) * n_rings + shapely.get_num_coordinates(S)
+    if estimate > MAX_OUTPUT_VERTICES:
+        raise ResourceLimitError(
+            f"tolerance = {tolerance:g} would sample the output with about {estimate:.3g} vertices "
+            f"({chords_per_turn(r, tolerance)} a full turn of radius r, for each of {n_rings} ring(s)); "
+            f"the cap is {MAX_OUTPUT_VERTICES:g}: use a larger tolerance")
+
+
+def check_resolution(S, r: float) -> None:
+    """Refuse a radius too small for doubles to resolve against the shape (see `vectortighten.limits`).
+
+    Raises `InvalidRadiusError` naming the limit when ``r < min_radius(S)``.
+    """
+    limit = min_radius(S)
+    if r < limit:
+        raise InvalidRadiusError(
+            f"r = {r!r} is below the smallest radius doubles resolve for this shape: r must be at least "
+            f"{limit:.3g} (the larger of {MIN_R_SIZE:g} of its size and {MIN_R_MAGNITUDE:g} of its largest "
+            "coordinate); scale the shape up or move it nearer the origin")
 
 
 def quad_segs_for(r: float, tolerance: float) -> int:
@@ -73,6 +124,9 @@ def check_shape(S, name: str = "S", *, allow_empty: bool = False) -> Polygon | M
     coords = shapely.get_coordinates(S)
     if not np.isfinite(coords).all():
         raise InvalidGeometryError(f"{name} has NaN or infinite coordinates")
+    if np.abs(coords).max() > MAX_COORDINATE:
+        raise InvalidGeometryError(f"{name} has coordinates up to {np.abs(coords).max():.3g}; at most "
+                                   f"{MAX_COORDINATE:g} in absolute value are supported (areas would overflow)")
     if not S.is_valid:
         reason = shapely.is_valid_reason(S)
         fixed = shapely.make_valid(S)
@@ -89,11 +143,37 @@ def check_shape(S, name: str = "S", *, allow_empty: bool = False) -> Polygon | M
     # Consecutive vertices closer than 1e-12 of the shape's size carry no geometry (only rounding): drop
     # them, sparing every edge loop a zero or subnormal length.
     x0, y0, x1, y1 = S.bounds
-    merged = shapely.remove_repeated_points(S, 1e-12 * max(x1 - x0, y1 - y0))
+    eps = 1e-12 * max(x1 - x0, y1 - y0)
+    S = _drop_specks(S, eps)
+    try:
+        merged = shapely.remove_repeated_points(S, eps)
+    except shapely.errors.GEOSException:       # a ring collapsed below three points: keep S as it is
+        merged = S
     if shapely.get_num_coordinates(merged) != shapely.get_num_coordinates(S) and merged.is_valid \
             and not merged.is_empty:
         S = merged
     return shapely.orient_polygons(S, exterior_cw=False)
+
+
+def _drop_specks(S, eps: float):
+    """``S`` without the parts and holes whose bounding box is within ``1000·eps`` (rounding-sized specks).
+
+    Such a speck is below every radius `tighten` accepts (`vectortighten.limits.MIN_R_SIZE` is 1e-8 of
+    the size, ``eps`` 1e-12 of it), so no tightening depends on it; it only breaks the merging of repeated
+    points.
+    """
+    def small(ring) -> bool:
+        a, b, c, d = ring.bounds
+        return max(c - a, d - b) <= 1000.0 * eps
+
+    parts = [p for p in getattr(S, "geoms", [S]) if not small(p.exterior)]
+    if len(parts) == len(getattr(S, "geoms", [S])) and not any(small(h) for p in parts for h in p.interiors):
+        return S
+    kept = [Polygon(p.exterior, [h for h in p.interiors if not small(h)]) for p in parts]
+    if not kept:
+        return S
+    out = kept[0] if len(kept) == 1 else MultiPolygon(kept)
+    return out if out.is_valid else S
 
 
 #: Parts of a MultiPolygon closer than this share of the shape's size are one part cut by rounding.

@@ -38,7 +38,9 @@ from . import _fast
 from . import morphology as _m
 from ._pieces import piece_distance
 from ._proximity import EdgeIndex, PointIndex
-from ._validation import check_radius, check_shape, check_tolerance, quad_segs_for
+from ._guard import guarded_tighten
+from ._validation import check_output_size, check_radius, check_resolution, check_shape, check_tolerance, \
+    quad_segs_for
 from .centers import ArcCenters, _arc_centers, _centres_near, _snap_vertices, boundary_edges
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
@@ -1218,7 +1220,8 @@ def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None =
     -------
     Tightening
         Exact loops, sampled geometry, exact ``perimeter`` and ``area``, and ``verify()``. When the core
-        and fillet leave no loop (everything vanishes) the result is empty, not an error.
+        and fillet leave no loop (everything vanishes) the result is empty, not an error; when no disk of
+        radius r fits in the bounding box of S it is empty at once, whatever the size of r.
 
     Raises
     ------
@@ -1227,7 +1230,19 @@ def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None =
     InvalidGeometryError
         If S is empty or has non-finite coordinates.
     InvalidRadiusError
-        If r or tolerance is not a positive finite number.
+        If r or tolerance is not a positive finite number, if r is below what doubles resolve for S
+        (`vectortighten.limits.min_radius`: 1e-8 of its size, 1e-10 of its largest coordinate), or if
+        tolerance is below `vectortighten.limits.min_tolerance`.
+    ResourceLimitError
+        If the sampled geometry could exceed `vectortighten.limits.MAX_OUTPUT_VERTICES` vertices.
+    TighteningFailedError
+        If the engine fails on this (valid) shape; the message names the cause.
+
+    Warns
+    -----
+    ConvergenceWarning
+        If the exact finish did not settle, or if the result fails the final check ``R ⊆ T ⊆ F``
+        (made on every result); ``converged`` is then False.
 
     References
     ----------
@@ -1246,12 +1261,14 @@ def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None =
     """
     r = check_radius(r)
     S = check_shape(S)
-    tol = check_tolerance(tolerance, r)
+    tol = check_tolerance(tolerance, r, S)
+    check_resolution(S, r)
     try:
         init = Init(init.value if isinstance(init, Init) else init)
     except ValueError:
         raise ValueError(f"init must be 'core', 'input' or 'mason', got {init!r}") from None
-    return _tighten(S, r, init, tol)
+    check_output_size(S, r, tol)
+    return guarded_tighten(_tighten, S, r, init, tol)
 
 
 def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Tightening:

@@ -1,7 +1,19 @@
 """Exceptions and warnings raised by vectortighten.
 
 Every error subclasses the matching built-in, so ``except ValueError`` keeps working for callers who do
-not know this package.
+not know this package, and every error subclasses `TighteningError`, so ``except TighteningError``
+catches everything the package raises on purpose. An exception of any other type escaping a public
+function is a bug.
+
+The hierarchy::
+
+    TighteningError
+    ├── InvalidGeometryError (ValueError)   the shape, or the file it came from, is unusable
+    ├── GeometryTypeError (TypeError)       not a polygonal geometry
+    ├── InvalidRadiusError (ValueError)     r or a tolerance is not usable (e.g. below what doubles resolve)
+    ├── ResourceLimitError (ValueError)     an input would exceed a documented cap (`vectortighten.limits`)
+    ├── TighteningFailedError (RuntimeError) the engine could not tighten this (valid) shape
+    └── CRSError (ValueError)               a geodata layer's CRS is missing, unreadable or in degrees
 """
 
 __all__ = [
@@ -14,12 +26,28 @@ __all__ = [
     "InvalidRadiusError",
     "PassThroughWarning",
     "RepairWarning",
+    "ResourceLimitError",
     "TighteningError",
+    "TighteningFailedError",
 ]
 
 
 class TighteningError(Exception):
-    """Base class of every error raised by vectortighten."""
+    """Base class of every error raised by vectortighten.
+
+    Catch it to handle every documented failure at once; the message is one line that names the problem
+    (and, for a file, the file). The command line reports each of these with exit code 2.
+
+    Examples
+    --------
+    >>> import vectortighten as vt
+    >>> from shapely.geometry import box
+    >>> try:
+    ...     vt.tighten(box(0, 0, 1, 1), -1)
+    ... except vt.TighteningError as exc:
+    ...     print(type(exc).__name__, exc)
+    InvalidRadiusError r must be a positive finite number, got -1
+    """
 
 
 class InvalidGeometryError(TighteningError, ValueError):
@@ -31,7 +59,30 @@ class GeometryTypeError(TighteningError, TypeError):
 
 
 class InvalidRadiusError(TighteningError, ValueError):
-    """The radius (or a tolerance) is not a positive finite number."""
+    """The radius (or a tolerance) is not a positive finite number, or not one doubles can resolve.
+
+    ``tighten`` refuses a radius below `vectortighten.limits.min_radius` of the shape (relative to its size
+    and to the magnitude of its coordinates) and a tolerance below `vectortighten.limits.min_tolerance`;
+    the message names the limit.
+    """
+
+
+class ResourceLimitError(TighteningError, ValueError):
+    """An input would exceed one of the documented caps of `vectortighten.limits`.
+
+    Expanded SVG elements (``<use>`` fan-out), decoded image pixels, vertices of the sampled output: the
+    message names the cap and by how much it is exceeded.
+    """
+
+
+class TighteningFailedError(TighteningError, RuntimeError):
+    """The engine could not compute a tightening of this (valid) shape.
+
+    Raised instead of an internal exception (a GEOS topology error, a loop that leaves the mortar, surgery
+    that does not settle). The shape and r are valid; the message says what failed. Please report it with
+    the shape. A result that is computed but fails the final containment check is not raised: it comes
+    back with ``converged=False`` and a `ConvergenceWarning`.
+    """
 
 
 class RepairWarning(UserWarning):

@@ -1,0 +1,186 @@
+"""What `tighten` does around the engine: answers known without it, documented errors, a final check.
+
+* A radius so large that no disk of radius r fits in the shape's bounding box leaves an empty core and no
+  enclosed anticore (the fillet lies in the convex hull), so every tightening is empty: it is returned at
+  once, without buffering by an r that may overflow.
+* Any exception of the engine on checked input becomes a `TighteningFailedError` naming what failed
+  (a `MemoryError` and a `KeyboardInterrupt` pass through).
+* Pieces of a loop shorter than `ZERO_SCALE` of the shape's size (tangents of length 1e-16 between two
+  arcs, left by rounding) are dropped: their direction is noise, and they read as corners.
+* Every result is checked before it is returned, ``R_r(S) ⊆ T ⊆ F_r(S)``, against the engine's own core
+  and fillet (already built, so the check costs two overlays) within the engine's own slack. A result
+  that fails it is not returned as converged: ``converged`` becomes False and a `ConvergenceWarning`
+  says by how much it fails.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon
+
+from .errors import ConvergenceWarning, TighteningError, TighteningFailedError
+from .tolerances import THICKEN_R, ZERO_SCALE
+
+__all__ = ["containment_problems", "drop_specks", "guarded_tighten", "vanishes"]
+
+#: A violation of the containment smaller than this share of r² is within rounding of the overlays.
+_AREA_R2 = 1e-3
+
+
+def vanishes(S, r: float) -> bool:
+    """Whether no disk of radius r fits in the bounding box of S (then every tightening of S is empty).
+
+    A disk inside S lies in its bounding box; an enclosed component of the anticore is a union of r-disks
+    inside the convex hull of S. Both need ``2r`` at most the smaller side of the box.
+    """
+    x0, y0, x1, y1 = S.bounds
+    return 2.0 * r > min(x1 - x0, y1 - y0)
+
+
+def _empty_result(S, r: float, init, tol: float):
+    from .engine import _Frame
+
+    cls = _vanished_class()
+    result = cls(loops=[], geometry=Polygon(), r=r, init=init.value, tolerance=tol, shape=S)
+    result._cache["core"] = Polygon()
+    result._cache["_frame"] = _Frame.of(S)
+    result._cache["_path"] = "empty"
+    return result
+
+
+_VANISHED = None
+
+
+def _vanished_class():
+    """`Tightening` for a radius no disk of which fits in the shape's box (defined on first use)."""
+    global _VANISHED
+    if _VANISHED is None:
+        from .engine import Tightening
+
+        class VanishedTightening(Tightening):
+            """An empty tightening: no disk of radius r fits in the shape's bounding box.
+
+            Its core is empty; its fillet is computed as usual while r is within 1e8 of the shape's
+            size, and is the convex hull of the shape beyond (the fillet tends to the hull as r grows;
+            buffering by such an r would overflow).
+            """
+
+            def _morph(self, name):
+                if name not in self._cache:
+                    x0, y0, x1, y1 = self.shape.bounds
+                    if self.r > 1e8 * max(x1 - x0, y1 - y0):
+                        F = shapely.convex_hull(self.shape)
+                        self._cache["fillet"] = F
+                        self._cache["mortar"] = F
+                return super()._morph(name)
+
+            def verify(self) -> list[str]:
+                """DESIGN §7 on an empty result: the core must be empty (it is, by the box)."""
+                return [] if self.core.is_empty else ["(a) the tightening misses the core"]
+
+        VanishedTightening.__module__ = __name__
+        VanishedTightening.__qualname__ = "VanishedTightening"
+        _VANISHED = VanishedTightening
+        globals()["VanishedTightening"] = VanishedTightening
+    return _VANISHED
+
+
+def guarded_tighten(run, S, r: float, init, tol: float):
+    """``run(S, r, init, tol)`` (the engine on checked arguments) with the guards of this module."""
+    if vanishes(S, r):
+        return _empty_result(S, r, init, tol)
+    try:
+        with warnings.catch_warnings():
+            # numpy's overflow and invalid-value warnings inside the engine are not the user's concern;
+            # what they lead to is judged by the final check.
+            warnings.simplefilter("ignore", RuntimeWarning)
+            result = run(S, r, init, tol)
+    except (MemoryError, TighteningError):
+        raise
+    except Exception as exc:
+        text = str(exc).splitlines()[0] if str(exc) else ""
+        raise TighteningFailedError(
+            f"the engine could not tighten this shape at r = {r:g} ({type(exc).__name__}"
+            f"{': ' + text if text else ''}); please report it with the shape") from exc
+    x0, y0, x1, y1 = S.bounds
+    result.loops = [drop_specks(loop, ZERO_SCALE * max(x1 - x0, y1 - y0)) for loop in result.loops]
+    problems = containment_problems(result)
+    if problems and result.converged:
+        result.converged = False
+        warnings.warn(f"the result fails its final check ({'; '.join(problems)}): returned with "
+                      "converged=False (Tightening.verify() lists where)", ConvergenceWarning, stacklevel=4)
+    return result
+
+
+def drop_specks(loop, eps: float):
+    """``loop`` without its pieces of length ``eps`` or less (rounding specks), if any; else ``loop``.
+
+    The gap a dropped piece leaves is its own length, far below the loop's closing tolerance (1e-9 of its
+    size). A loop made only of specks is kept as it is.
+
+    Examples
+    --------
+    >>> from vectortighten.curves import Arc, Loop, Segment
+    >>> L = Loop([Arc((0, 0), 1, 0, 3.141592653589793), Segment((-1, 0), (-1, 1e-17)),
+    ...           Arc((0, 1e-17), 1, 3.141592653589793, 3.141592653589793)], atol=1e-12)
+    >>> len(drop_specks(L, 1e-12)._data), drop_specks(L, 1e-12).is_g1()
+    (2, True)
+    """
+    data, arc = loop._data, loop._arc
+    length = np.where(arc, np.abs(data[:, 2] * data[:, 4]), np.hypot(data[:, 2] - data[:, 0],
+                                                                      data[:, 3] - data[:, 1]))
+    keep = length > eps
+    if keep.all() or not keep.any():
+        return loop
+    return type(loop)._from_arrays(arc[keep], data[keep])
+
+
+def containment_problems(result) -> list[str]:
+    """``R ⊆ T ⊆ F`` on a result, against the core and fillet the engine built (the cheap final check).
+
+    Returns a list of one-line problems (empty when the result passes). Works in the engine's local frame
+    (unit size) where its context exists; otherwise (the fast path, whose loops its own exact tests
+    certify) against the public core and fillet at a coarse tolerance.
+    """
+    cache = result._cache
+    frame = cache.get("_frame")
+    exact = cache.get("_exact")
+    ctx = exact[0] if exact is not None else None
+    T = result.geometry
+    if ctx is not None and frame is not None and hasattr(ctx, "R") and hasattr(ctx, "F"):
+        R, F = ctx.R, ctx.F
+        T = frame.to_local(T) if not T.is_empty else T
+        r = ctx.r
+        slack = result.tolerance / frame.scale + 2.0 * getattr(ctx, "delta", THICKEN_R * r)
+    else:
+        from . import morphology
+
+        r = result.r
+        coarse = min(1e-3 * r, 0.5 * result.r)
+        R = morphology.core(result.shape, r, tolerance=coarse)
+        F = morphology.fillet(result.shape, r, tolerance=coarse)
+        slack = result.tolerance + coarse + 2.0 * THICKEN_R * r
+    tiny = _AREA_R2 * r * r
+    problems = []
+    try:
+        if not R.is_empty:
+            missed = shapely.difference(R, T.buffer(slack)).area if not T.is_empty else R.area
+            if missed > tiny:
+                problems.append(f"it misses {missed / (r * r):.3g}·r² of the core")
+        if not T.is_empty:
+            outside = shapely.difference(T, F.buffer(slack)).area
+            if outside > tiny:
+                problems.append(f"{outside / (r * r):.3g}·r² of it lies outside the fillet")
+    except shapely.errors.GEOSException as exc:
+        problems.append(f"the check itself failed ({exc})")
+    return problems
+
+
+def __getattr__(name: str):
+    # Unpickling a vanished result in a process that has not made one yet (a batch's parent).
+    if name == "VanishedTightening":
+        return _vanished_class()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
