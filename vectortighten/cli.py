@@ -42,7 +42,8 @@ _EPILOG_TIGHTEN = """\
 formats (by extension):
   in:  .svg (paths, curves, arcs, basic shapes, transforms, fill-rule nonzero/evenodd),
        .dxf (LINE, ARC, CIRCLE, LWPOLYLINE/POLYLINE with bulges, ELLIPSE, SPLINE, blocks),
-       .wkt, .geojson/.json (a bare geometry),
+       .wkt (also CURVEPOLYGON, CIRCULARSTRING, COMPOUNDCURVE, MULTISURFACE: arcs
+       sampled within --flatten), .geojson/.json (a bare geometry),
        .png .tif .tiff .bmp .gif .jpg (a mask or label image);
        geodata layers: .gpkg, .shp, .geojson/.json (Feature, FeatureCollection), .fgb,
        .parquet (GeoParquet)
@@ -277,8 +278,8 @@ def _add_tighten(sub) -> None:
                        help="largest distance between an arc and its chords in sampled outputs "
                             "(WKT, GeoJSON and the other geodata formats, PNG; default 1e-5·R)")
     tight.add_argument("--flatten", type=_positive_float, default=None, metavar="F",
-                       help="SVG and DXF input: largest distance between a curve and its chords "
-                            "(default 1e-4 of the drawing's diagonal)")
+                       help="SVG, DXF and curved WKT (CURVEPOLYGON) input: largest distance between a "
+                            "curve and its chords (default 1e-4 of the drawing's diagonal)")
     known_out = _VECTOR_OUT + tuple(e for e in _MASK_OUT if e not in _VECTOR_OUT)
     tight.add_argument("--format", type=_format, default=None, metavar="EXT",
                        help="output format for a folder OUT, or for an OUT whose extension does not tell: "
@@ -388,7 +389,21 @@ class _Outcome:
 def _error_text(exc: BaseException) -> str:
     if isinstance(exc, OSError) and exc.filename is not None:
         return f"{exc.strerror or exc}: {exc.filename}"
-    return str(exc) or type(exc).__name__
+    return _one_line(str(exc) or type(exc).__name__)
+
+
+def _one_line(text: str) -> str:
+    """A message as one line of reasonable length: long digit runs shortened, only the first line kept.
+
+    Examples
+    --------
+    >>> _one_line("Unrecognized number: " + "1" * 400)
+    'Unrecognized number: 111111111111… (400 digits)'
+    """
+    import re
+
+    text = text.strip().splitlines()[0] if text.strip() else text
+    return re.sub(r"\d{40,}", lambda m: f"{m.group()[:12]}… ({len(m.group())} digits)", text)
 
 
 def _user_errors():

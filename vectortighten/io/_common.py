@@ -113,13 +113,25 @@ def _polygonal(geom, source: str) -> Polygon | MultiPolygon:
     if not np.isfinite(shapely.get_coordinates(geom)).all():
         raise InvalidGeometryError(f"{source}: NaN or infinite coordinates")
     if not isinstance(geom, (Polygon, MultiPolygon)):
-        parts = [g for g in shapely.get_parts(geom) if isinstance(g, (Polygon, MultiPolygon))]
+        parts = [g for g in _leaves(geom) if isinstance(g, Polygon) and not g.is_empty]
         if not parts:
             raise GeometryTypeError(f"{source}: no polygons found (got {geom.geom_type})")
         geom = shapely.union_all(parts)
     if geom.is_empty:
         raise InvalidGeometryError(f"{source}: the geometry is empty")
     return geom
+
+
+def _leaves(geom) -> list:
+    """The simple geometries of ``geom``, through collections nested to any depth (without recursion)."""
+    out, todo = [], [geom]
+    while todo:
+        g = todo.pop()
+        if hasattr(g, "geoms"):
+            todo.extend(reversed(list(g.geoms)))
+        else:
+            out.append(g)
+    return out
 
 
 def _read_text(path: Path, kind: str) -> str:

@@ -30,6 +30,7 @@ from vectortighten.errors import InvalidGeometryError
 
 from ._common import _read_text, _require, atomic_path
 from ._source import Features, Source, crs_units
+from ._wkt_curves import has_curves, read_curved_wkt
 
 __all__ = ["GEODATA", "geojson_is_plain", "parse_crs", "read_features", "read_source", "read_wkt",
            "result_features", "wkt_text", "write_features"]
@@ -52,11 +53,18 @@ _SHAPEFILE_OPTIONAL = (".prj", ".cpg", ".qix", ".sbn", ".sbx", ".qmd")
 # ---------------------------------------------------------------------------------------------------------
 # WKT and plain GeoJSON geometries
 # ---------------------------------------------------------------------------------------------------------
-def read_wkt(path: Path):
-    """The geometry of a WKT file (not yet checked to be polygonal)."""
+def read_wkt(path: Path, flatten: float | None = None):
+    """The geometry of a WKT file (not yet checked to be polygonal).
+
+    Curved types (``CURVEPOLYGON``, ``CIRCULARSTRING``, ``COMPOUNDCURVE``, ``MULTISURFACE``), which GEOS
+    does not read, are read by `_wkt_curves.read_curved_wkt`: arcs sampled within ``flatten`` (default
+    1e-4 of the diagonal).
+    """
     text = _read_text(path, "WKT").strip()
     if not text:
         raise InvalidGeometryError(f"{path}: malformed WKT (the file is empty)")
+    if has_curves(text):
+        return read_curved_wkt(text, str(path), flatten)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)  # GEOS warns on NaN; _polygonal names it
@@ -131,14 +139,21 @@ def geojson_is_plain(path) -> bool:
 def _read_plain_geojson(path: Path):
     """The geometry of a bare-geometry GeoJSON file."""
     try:
-        data = json.loads(_read_text(path, "GeoJSON"))
+        # Integers are read as floats: a 400-digit coordinate becomes inf (refused below by name), not an
+        # OverflowError in shapely or Python's limit on converting long digit strings.
+        data = json.loads(_read_text(path, "GeoJSON"), parse_int=float)
     except json.JSONDecodeError as exc:
         raise InvalidGeometryError(f"{path}: malformed GeoJSON ({exc.msg} at line {exc.lineno})") from None
+    except RecursionError:
+        raise InvalidGeometryError(f"{path}: malformed GeoJSON (arrays or objects nested too deeply)") from None
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)  # GEOS warns on NaN; checked below
             geom = shape(data)
-    except (KeyError, TypeError, ValueError, AttributeError, IndexError, shapely.errors.ShapelyError) as exc:
+    except RecursionError:
+        raise InvalidGeometryError(f"{path}: malformed GeoJSON (geometries nested too deeply)") from None
+    except (KeyError, TypeError, ValueError, AttributeError, IndexError, ArithmeticError,
+            shapely.errors.ShapelyError) as exc:
         detail = f"missing {exc}" if isinstance(exc, KeyError) else str(exc) or type(exc).__name__
         raise InvalidGeometryError(f"{path}: malformed GeoJSON ({detail})") from None
     if not np.isfinite(shapely.get_coordinates(geom)).all():

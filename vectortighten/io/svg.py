@@ -46,7 +46,8 @@ import shapely
 from shapely.geometry import MultiPolygon, Point, Polygon
 
 from vectortighten.curves import Arc, Segment
-from vectortighten.errors import InvalidGeometryError
+from vectortighten.errors import InvalidGeometryError, ResourceLimitError
+from vectortighten.limits import MAX_SVG_ELEMENTS
 
 from ._common import _bounds, _check_layers, _polygonal, _require
 from ._fill import fill_rings
@@ -134,6 +135,22 @@ def _prepare_svg(root, source: str) -> tuple[bytes, dict[str, int]]:
     for el in list(root.iter()):
         if el.get(_LAYER_ATTR) is not None and el in parent:      # input/core/mortar drawn by svg_document
             parent[el].remove(el)
+    box = root.get("viewBox")
+    if box is not None:
+        try:
+            values = [float(v) for v in re.split(r"[\s,]+", box.strip())]
+        except ValueError:
+            values = []
+        if len(values) != 4:
+            raise InvalidGeometryError(f"{source}: malformed SVG (viewBox={box!r} is not four numbers)")
+        if not (values[2] > 0 and values[3] > 0):
+            raise InvalidGeometryError(f"{source}: the root viewBox={box!r} has a width or height that is not "
+                                       "positive; such an SVG draws nothing")
+    expanded = _expanded_count(root)
+    if expanded > MAX_SVG_ELEMENTS:
+        raise ResourceLimitError(f"{source}: refused: its <use> references expand to {expanded:.3g} drawn "
+                                 f"elements, more than the limit of {MAX_SVG_ELEMENTS:,} "
+                                 "(vectortighten.limits.MAX_SVG_ELEMENTS)")
     # <symbol>, <mask>, <marker>, <pattern> and <clipPath> are not drawn where they stand; svgelements
     # lists their shapes as if they were. Inside <defs> they are drawn only through <use>, as they should.
     # A symbol becomes a group (its viewBox is not honoured).
@@ -169,6 +186,57 @@ def _prepare_svg(root, source: str) -> tuple[bytes, dict[str, int]]:
     return ET.tostring(root), ignored
 
 
+def _href(el) -> str | None:
+    """The local target id of a ``<use>`` (``href`` or ``xlink:href`` of the form ``#id``), or None."""
+    for key in ("href", "{http://www.w3.org/1999/xlink}href"):
+        value = el.get(key)
+        if value is not None:
+            value = value.strip()
+            return value[1:] if value.startswith("#") else None
+    return None
+
+
+def _expanded_count(root) -> float:
+    """How many elements the tree has once every ``<use>`` is replaced by a copy of what it references.
+
+    Nested uses multiply (ten uses of a group of ten uses of ...), so this is computed per element and
+    memoised, without recursion (a deep tree would exhaust Python's stack), in floating point (the count
+    of a bomb overflows nothing). Elements inside never-rendered containers count only where used; a
+    reference cycle counts as one element (svgelements refuses it later).
+    """
+    by_id = {el.get("id"): el for el in root.iter() if el.get("id") is not None}
+    memo: dict[int, float] = {}
+    active: set[int] = set()
+    stack = [(root, False)]
+    while stack:
+        el, done = stack.pop()
+        key = id(el)
+        if key in memo:
+            continue
+        target = by_id.get(_href(el)) if _local(el.tag) == "use" else None
+        kids = list(el) + ([target] if target is not None else [])
+        if not done:
+            active.add(key)
+            stack.append((el, True))
+            stack.extend((k, False) for k in kids if id(k) not in memo and id(k) not in active)
+            continue
+        active.discard(key)
+        memo[key] = 1.0 + math.fsum(memo.get(id(k), 1.0) for k in kids)
+    # Count what is drawn where it stands (not the contents of <defs> and the like), with what each
+    # <use> among them brings in whole.
+    rendered, todo = 0.0, [root]
+    while todo:
+        el = todo.pop()
+        rendered += 1.0
+        if _local(el.tag) in _NOT_RENDERED:
+            continue
+        if _local(el.tag) == "use":
+            target = by_id.get(_href(el))
+            rendered += memo.get(id(target), 1.0) if target is not None else 0.0
+        todo.extend(el)
+    return rendered
+
+
 def _describe(el) -> str:
     ident = el.get("id")
     return f"<{_local(el.tag)} id={ident!r}>" if ident else f"<{_local(el.tag)}>"
@@ -193,7 +261,10 @@ def _curve_chords(seg, se, tol: float) -> np.ndarray:
         n = math.ceil(math.sqrt(2.0 * bend / (8.0 * tol)))
     elif isinstance(seg, se.Arc):
         big = max(abs(seg.rx), abs(seg.ry))                     # |point''| ≤ max radius per radian²
-        n = math.ceil(abs(seg.sweep) * math.sqrt(big / (8.0 * tol)))
+        # An arc whose radius or sweep overflows (radii of 1e308 between nearby points) is a straight
+        # line to within rounding: one chord.
+        n = abs(seg.sweep) * math.sqrt(big / (8.0 * tol)) if math.isfinite(big) else math.nan
+        n = math.ceil(n) if math.isfinite(n) else 1
     else:
         n = 1
     if not math.isfinite(n):
@@ -577,11 +648,15 @@ def _parse_shapes(data: bytes, name: str):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             svg = se.SVG.parse(_stdio.BytesIO(clean), reify=False, on_error="raise")
-    except (ValueError, TypeError, IndexError, AttributeError, KeyError, ZeroDivisionError) as exc:
+    except (ValueError, TypeError, IndexError, AttributeError, KeyError, ArithmeticError) as exc:
         for el in root.iter():            # name the culprit when it is path data (the usual one)
             if _local(el.tag) == "path" and el.get("d"):
                 try:
                     se.Path(el.get("d"))
+                except ArithmeticError:
+                    raise InvalidGeometryError(
+                        f"{name}: path data in {_describe(el)} cannot be computed in doubles (an arc's "
+                        "radii or a coordinate too small or too large)") from None
                 except (ValueError, IndexError, TypeError):
                     raise InvalidGeometryError(f"{name}: malformed SVG (bad path data in {_describe(el)})") \
                         from None
