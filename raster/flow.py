@@ -37,7 +37,7 @@ import numpy as np
 from scipy import ndimage
 
 from ._checks import check_mask, check_radius
-from .morphology import _core_fillet, mason
+from .morphology import _core_fillet, mason, vanishes
 
 __all__ = ["RasterTightening", "tighten", "signed_distance", "default_levels"]
 
@@ -673,6 +673,10 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
     t0 = time.perf_counter()
     R, F = _core_fillet(M, r)
     timings["morphology"] = time.perf_counter() - t0
+    if vanishes(M, r):        # no disk of radius r fits: every tightening is empty, at once
+        timings["total"] = time.perf_counter() - t_start
+        return RasterTightening(mask=np.zeros_like(M), phi=np.full(M.shape, 0.5, dtype=np.float32), core=R,
+                                fillet=F, r=r, init=init, levels=levels, iterations=[], timings=timings)
     t0 = time.perf_counter()
     start = {"core": R, "input": M, "mason": mason(M, r) if init == "mason" else None}[init]
     phi0 = signed_distance(start) if start.any() and not start.all() else \

@@ -317,6 +317,7 @@ def _atomic(path: Path):
         raise FileNotFoundError(2, "output folder does not exist", str(path.parent))
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
     os.close(fd)
+    _PENDING.add(tmp)
     try:  # mkstemp makes the file private; give it the mode of the file it replaces, or the usual one
         umask = os.umask(0o022)
         os.umask(umask)
@@ -327,8 +328,14 @@ def _atomic(path: Path):
         yield tmp
         os.replace(tmp, path)
     finally:
+        _PENDING.discard(tmp)
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+#: Temporary files being written by `_atomic` in this process (a batch worker being terminated removes
+#: them: `vectortighten.io._common.discard_pending`).
+_PENDING: set[str] = set()
 
 
 def _pil_image(a: np.ndarray, fmt: str, like: MaskImage | None):

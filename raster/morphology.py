@@ -38,10 +38,48 @@ __all__ = ["anticore", "core", "fillet", "fillet_round", "grow", "mason", "morta
            "shrink"]
 
 
+#: Largest padded image (pixels) the morphology builds: a radius much larger than the image would pad it
+#: by the radius on every side (a 100 × 100 mask at r = 10⁵ asks for 1.6·10¹¹ pixels).
+MAX_PADDED_PIXELS = 4 * 8192 * 8192
+
+
 def _pad(mask: np.ndarray, r: float, passes: int) -> tuple[np.ndarray, int]:
     """Edge-replicated padding wide enough for ``passes`` operations of radius r."""
     p = passes * math.ceil(r) + 1
+    h, w = mask.shape
+    if (h + 2 * p) * (w + 2 * p) > MAX_PADDED_PIXELS:
+        raise ValueError(f"r = {r:g} px is too large for this {h} × {w} mask: its morphology would pad it to "
+                         f"{(h + 2 * p) * (w + 2 * p):.3g} pixels (limit {MAX_PADDED_PIXELS:,}); a mask "
+                         "that touches the image border continues beyond it, so r must stay within the "
+                         "limit")
     return np.pad(mask, p, mode="edge"), p
+
+
+def vanishes(M: np.ndarray, r: float) -> bool:
+    """Whether no pixel disk of radius ``r`` fits in the mask's box and the mask stays off the border.
+
+    The padding continues the border pixels outward; a mask with no True pixel on the border is
+    surrounded by background. Then a disk of radius r inside the mask, or an enclosed one outside it,
+    needs ``2r`` at most the larger side of the box of True pixels: beyond that the core, the enclosed
+    anticore and every tightening are empty.
+    """
+    if M[0].any() or M[-1].any() or M[:, 0].any() or M[:, -1].any():
+        return False
+    rows, cols = np.flatnonzero(M.any(axis=1)), np.flatnonzero(M.any(axis=0))
+    if not len(rows):
+        return True
+    return 2.0 * r > max(rows[-1] - rows[0], cols[-1] - cols[0]) + 2
+
+
+def _hull(M: np.ndarray) -> np.ndarray:
+    """Pixels whose centres lie in the convex hull of the True pixels' squares (the fillet as r → ∞)."""
+    import shapely
+
+    rows, cols = np.nonzero(M)
+    corners = np.concatenate([np.column_stack([cols + dx, rows + dy]) for dx in (-0.5, 0.5) for dy in (-0.5, 0.5)])
+    hull = shapely.convex_hull(shapely.multipoints(corners))
+    yy, xx = np.mgrid[0:M.shape[0], 0:M.shape[1]]
+    return shapely.contains_xy(hull, xx.ravel(), yy.ravel()).reshape(M.shape) | M
 
 
 def _crop(a: np.ndarray, p: int) -> np.ndarray:
@@ -117,6 +155,14 @@ def shrink(mask, r):
 
 
 def _core_fillet(M: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
+    if vanishes(M, r):
+        # The core is empty at once; the fillet as usual while padding is affordable, else its r → ∞
+        # limit, the convex hull.
+        p = 2 * math.ceil(r) + 1
+        if (M.shape[0] + 2 * p) * (M.shape[1] + 2 * p) > MAX_PADDED_PIXELS:
+            return np.zeros_like(M), _hull(M)
+        P, p = _pad(M, r, 2)
+        return np.zeros_like(M), _crop(_shrink(_grow(P, r), r), p)
     P, p = _pad(M, r, 2)
     return _crop(_grow(_shrink(P, r), r), p), _crop(_shrink(_grow(P, r), r), p)
 

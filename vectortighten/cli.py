@@ -12,11 +12,9 @@ from __future__ import annotations
 
 import argparse
 import math
-import multiprocessing
 import os
 import sys
 import warnings
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -773,22 +771,19 @@ def _cmd_tighten(args) -> int:
                 progress.step()
         else:
             # Fresh interpreters, not forks: safe whatever threads the parent runs, the same on every OS.
-            context = multiprocessing.get_context("spawn")
-            with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
-                futures = {pool.submit(_run_task, task): task for task in tasks}
-                try:
-                    for fut in as_completed(futures):
-                        try:
-                            outcome = fut.result()
-                        except Exception as exc:  # the worker process died (killed, out of memory)
-                            outcome = _Outcome(futures[fut], error=f"{futures[fut].source}: the worker "
-                                               f"process failed ({type(exc).__name__}: {exc})", internal=True)
-                        outcomes.append(outcome)
-                        _report(outcome, progress)
-                        progress.step()
-                except BaseException:
-                    pool.shutdown(wait=False, cancel_futures=True)
-                    raise
+            # One task at a time per worker, so that a worker that dies fails its own file only, and
+            # Ctrl-C terminates the workers before anything else is written (`_workers`).
+            from ._workers import WorkerDied, run_tasks
+
+            for k, ok, value in run_tasks(_run_task, [(t,) for t in tasks], jobs):
+                if ok:
+                    outcome = value
+                else:   # the worker died (killed, out of memory): this file fails, the others go on
+                    outcome = _Outcome(tasks[k], error=f"{tasks[k].source}: {_error_text(value)}",
+                                       internal=not isinstance(value, WorkerDied))
+                outcomes.append(outcome)
+                _report(outcome, progress)
+                progress.step()
     finally:
         progress.close()
     failed = [o for o in outcomes if o.error is not None]

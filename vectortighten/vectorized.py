@@ -22,15 +22,16 @@ into one per kind, with the count and the first features concerned.
 
 ``processes=N`` spreads the features over N worker processes (fresh interpreters; features are sent in
 chunks balanced by vertex count). It pays off from a few seconds of work; a dask cluster scales further.
+A worker that dies (the out-of-memory killer) fails the features of its own chunk only (with
+``errors="warn"`` they get an empty geometry and are counted; with ``"raise"`` the first is named), and
+Ctrl-C terminates every worker at once (`vectortighten._workers`).
 """
 
 from __future__ import annotations
 
-import multiprocessing
 import sys
 import warnings
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -41,6 +42,7 @@ from shapely.geometry.base import BaseGeometry
 from . import morphology as _m
 from ._progress import FeatureBar
 from ._validation import check_radius, check_tolerance
+from ._workers import WorkerDied, run_tasks
 from .engine import Init, tighten
 from .errors import (
     EmptyTighteningWarning,
@@ -379,18 +381,18 @@ def _map(op: str, geometries, r, *, init="core", tolerance=None, processes=None,
             weight = np.zeros(n, dtype=float)
             weight[order] = vertices + 50.0      # a feature costs something however small it is
             parts = _chunks(order, weight, n_proc * _CHUNKS_PER_PROCESS)
-            context = multiprocessing.get_context("spawn")
-            with ProcessPoolExecutor(max_workers=min(n_proc, len(parts)), mp_context=context) as pool:
-                futures = {pool.submit(_run_chunk, op, list(flat[c]), r, init, tolerance): c for c in parts}
-                try:
-                    for fut in as_completed(futures):
-                        c = futures[fut]
-                        for i, d in zip(c.tolist(), fut.result(), strict=True):
-                            results[i] = d
-                        bar.advance(len(c))
-                except BaseException:
-                    pool.shutdown(wait=False, cancel_futures=True)
-                    raise
+            # Fresh interpreters (spawn), one chunk at a time each: a worker that dies (out of memory)
+            # fails the features of its own chunk only, and an interrupt terminates every worker at once.
+            args = [(op, list(flat[c]), r, init, tolerance) for c in parts]
+            for k, ok, value in run_tasks(_run_chunk, args, min(n_proc, len(parts))):
+                c = parts[k]
+                if not ok and isinstance(value, WorkerDied):
+                    value = [_Done(error=value) for _ in c]
+                elif not ok:
+                    raise value
+                for i, d in zip(c.tolist(), value, strict=True):
+                    results[i] = d
+                bar.advance(len(c))
     _gather(op, results, out, label, n, errors, len(todo) - len(work), r)
     return batch.wrap(out)
 

@@ -68,6 +68,7 @@ def atomic_path(path):
         raise IsADirectoryError(21, "output is a folder", str(path))
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=f".tmp{path.suffix}")
     os.close(fd)
+    _PENDING.add(tmp)
     try:  # mkstemp makes the file private; give it the mode of the file it replaces, or the usual one
         os.chmod(tmp, path.stat().st_mode & 0o7777 if path.exists() else 0o666 & ~_umask())
     except OSError:
@@ -76,8 +77,27 @@ def atomic_path(path):
         yield Path(tmp)
         os.replace(tmp, path)
     finally:
+        _PENDING.discard(tmp)
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+#: Temporary files being written by `atomic_path` in this process (removed by `discard_pending`).
+_PENDING: set[str] = set()
+
+
+def discard_pending() -> None:
+    """Remove the temporary files this process is writing (a batch worker being terminated)."""
+    import sys
+
+    pending = list(_PENDING)
+    raster_io = sys.modules.get("raster.io")
+    pending += list(getattr(raster_io, "_PENDING", ()))
+    for tmp in pending:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
 
 
 @contextmanager
