@@ -113,3 +113,68 @@ def pixel_outline(n: int, seed: int = 7) -> Polygon:
     P = shapely.remove_repeated_points(Polygon(ring * h))
     P = shapely.simplify(P, 0.0)                    # drop collinear vertices (exactly, tolerance 0)
     return P if P.is_valid else max(shapely.make_valid(P).geoms, key=lambda g: g.area)
+
+
+# ---------------------------------------------------------------------------------------------------------
+# Adversarial strategies (issue 23): the kinds of input a hostile fuzzer found problems with.
+# ---------------------------------------------------------------------------------------------------------
+@st.composite
+def spiked(draw):
+    """A square with thin or zero-width spikes (outward) and slits (inward) on its sides."""
+    n = draw(st.integers(1, 4))
+    pts = [(0.0, 0.0)]
+    xs = sorted(draw(st.lists(st.floats(0.5, 9.5), min_size=n, max_size=n, unique_by=lambda v: round(v, 2))))
+    for x in xs:
+        width = draw(st.sampled_from([0.0, 1e-12, 1e-6, 1e-3, 0.05]))
+        length = draw(st.floats(-4.0, 6.0).filter(lambda v: abs(v) > 0.1))
+        pts += [(x, 0.0), (x + width / 2, -length), (x + width, 0.0)]
+    pts += [(10.0, 0.0), (10.0, 10.0), (0.0, 10.0)]
+    P = Polygon(pts)
+    assume(not P.is_empty)
+    return P
+
+
+@st.composite
+def near_degenerate(draw):
+    """Rings with nearly repeated vertices, nearly collinear runs, and bumps of rounding size."""
+    base = draw(st.sampled_from(["square", "star"]))
+    if base == "square":
+        c = np.array([(0, 0), (10, 0), (10, 10), (0, 10)], dtype=float)
+    else:
+        k = 11
+        th = np.arange(2 * k) * math.pi / k
+        rad = np.where(np.arange(2 * k) % 2 == 0, 10.0, 5.0)
+        c = np.column_stack([rad * np.cos(th), rad * np.sin(th)])
+    out = []
+    eps = draw(st.sampled_from([1e-15, 1e-13, 1e-10, 1e-7]))
+    for i, p in enumerate(c):
+        out.append(tuple(p))
+        q = c[(i + 1) % len(c)]
+        kind = draw(st.sampled_from(["none", "repeat", "collinear", "bump"]))
+        if kind == "repeat":
+            out.append(tuple(p + eps))
+        elif kind == "collinear":
+            out.append(tuple(p + 0.5 * (q - p)))
+        elif kind == "bump":
+            m = p + 0.5 * (q - p)
+            n = np.array([-(q - p)[1], (q - p)[0]]) / np.hypot(*(q - p))
+            out += [tuple(m - 0.01 * (q - p)), tuple(m + eps * n), tuple(m + 0.01 * (q - p))]
+    return Polygon(out)
+
+
+@st.composite
+def placed(draw, shapes):
+    """A shape of ``shapes`` rotated, scaled by 10^-6…10^6 and moved by up to 10^9."""
+    P = draw(shapes)
+    angle = draw(st.floats(0, 360))
+    scale = 10.0 ** draw(st.integers(-6, 6))
+    offset = draw(st.sampled_from([0.0, 1e3, 1e6, 1e9])) * draw(st.sampled_from([1, -1]))
+    P = shapely.affinity.rotate(P, angle, origin=(0, 0))
+    P = shapely.affinity.scale(P, scale, scale, origin=(0, 0))
+    return shapely.affinity.translate(P, offset, -offset)
+
+
+def relative_radius():
+    """Radii relative to the shape's size: tiny (down to 10^-14), ordinary, and huge (up to 10^200)."""
+    return st.one_of(st.sampled_from([1e-14, 1e-10, 1e-9, 1e-7, 1e3, 1e30, 1e200]),
+                     st.floats(0.01, 0.6))

@@ -35,8 +35,11 @@ from .errors import (
     InvalidRadiusError,
     PassThroughWarning,
     RepairWarning,
+    ResourceLimitError,
     TighteningError,
+    TighteningFailedError,
 )
+from . import limits
 from .vectorized import core_all, fillet_all, mason_all, mortar_all, tighten_all
 
 __version__ = "0.1.0"
@@ -57,6 +60,7 @@ __all__ = [
     "fillet_round",
     "grow",
     "is_r_regular",
+    "limits",
     "mason",
     "mason_all",
     "min_radius_of_curvature",
@@ -83,9 +87,11 @@ __all__ = [
     "Loop",
     "PassThroughWarning",
     "RepairWarning",
+    "ResourceLimitError",
     "Segment",
     "Side",
     "TighteningError",
+    "TighteningFailedError",
     "common_tangents",
     "disk_tangent",
     "tangent_directions",

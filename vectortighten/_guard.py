@@ -7,7 +7,8 @@
   (a `MemoryError` and a `KeyboardInterrupt` pass through).
 * Pieces of a loop shorter than `ZERO_SCALE` of the shape's size (tangents of length 1e-16 between two
   arcs, left by rounding) are dropped: their direction is noise, and they read as corners.
-* Every result is checked before it is returned, ``R_r(S) ⊆ T ⊆ F_r(S)``, against the engine's own core
+* Every result is checked before it is returned: its joins must be tangent (G1), and
+  ``R_r(S) ⊆ T ⊆ F_r(S)`` must hold against the engine's own core
   and fillet (already built, so the check costs two overlays) within the engine's own slack. A result
   that fails it is not returned as converged: ``converged`` becomes False and a `ConvergenceWarning`
   says by how much it fails.
@@ -25,6 +26,12 @@ from .errors import ConvergenceWarning, TighteningError, TighteningFailedError
 from .tolerances import THICKEN_R, ZERO_SCALE
 
 __all__ = ["containment_problems", "drop_specks", "guarded_tighten", "vanishes"]
+
+#: An arc that turns by less than this (radians) and is shorter than a speck is a speck.
+_SPECK_TURN = 1e-9
+
+#: A join whose tangents differ by more than this (radians) is a corner (`Tightening.verify`'s bound).
+_CORNER = 1e-7
 
 #: A violation of the containment smaller than this share of r² is within rounding of the overlays.
 _AREA_R2 = 1e-3
@@ -107,7 +114,7 @@ def guarded_tighten(run, S, r: float, init, tol: float):
             f"{': ' + text if text else ''}); please report it with the shape") from exc
     x0, y0, x1, y1 = S.bounds
     result.loops = [drop_specks(loop, ZERO_SCALE * max(x1 - x0, y1 - y0)) for loop in result.loops]
-    problems = containment_problems(result)
+    problems = containment_problems(result) + _corner_problems(result)
     if problems and result.converged:
         result.converged = False
         warnings.warn(f"the result fails its final check ({'; '.join(problems)}): returned with "
@@ -117,6 +124,9 @@ def guarded_tighten(run, S, r: float, init, tol: float):
 
 def drop_specks(loop, eps: float):
     """``loop`` without its pieces of length ``eps`` or less (rounding specks), if any; else ``loop``.
+
+    A segment that short has a direction of rounding noise; an arc that short is dropped only if it turns
+    by less than 1e-9 rad.
 
     The gap a dropped piece leaves is its own length, far below the loop's closing tolerance (1e-9 of its
     size). A loop made only of specks is kept as it is.
@@ -132,10 +142,18 @@ def drop_specks(loop, eps: float):
     data, arc = loop._data, loop._arc
     length = np.where(arc, np.abs(data[:, 2] * data[:, 4]), np.hypot(data[:, 2] - data[:, 0],
                                                                       data[:, 3] - data[:, 1]))
-    keep = length > eps
+    # An arc is a speck only if it hardly turns: a short arc of a small radius can turn by a visible angle,
+    # and without it its neighbours would meet at a corner.
+    keep = (length > eps) | (arc & (np.abs(data[:, 4]) > _SPECK_TURN))
     if keep.all() or not keep.any():
         return loop
     return type(loop)._from_arrays(arc[keep], data[keep])
+
+
+def _corner_problems(result) -> list[str]:
+    """Joins that are not tangent (the radius of curvature would be 0 there), as `verify` judges them."""
+    worst = max((float(loop.corner_angles().max()) for loop in result.loops), default=0.0)
+    return [f"a loop has a corner of {worst:.3g} rad"] if worst > _CORNER else []
 
 
 def containment_problems(result) -> list[str]:
