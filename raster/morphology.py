@@ -76,7 +76,8 @@ def _hull(M: np.ndarray) -> np.ndarray:
     import shapely
 
     rows, cols = np.nonzero(M)
-    corners = np.concatenate([np.column_stack([cols + dx, rows + dy]) for dx in (-0.5, 0.5) for dy in (-0.5, 0.5)])
+    corners = np.concatenate([np.column_stack([cols + dx, rows + dy])
+                              for dx in (-0.5, 0.5) for dy in (-0.5, 0.5)])
     hull = shapely.convex_hull(shapely.multipoints(corners))
     yy, xx = np.mgrid[0:M.shape[0], 0:M.shape[1]]
     return shapely.contains_xy(hull, xx.ravel(), yy.ravel()).reshape(M.shape) | M

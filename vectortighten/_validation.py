@@ -9,8 +9,13 @@ import shapely
 from shapely.geometry import MultiPolygon, Polygon
 from shapely.geometry.base import BaseGeometry
 
-from .errors import GeometryTypeError, InvalidGeometryError, InvalidRadiusError, RepairWarning
-from .errors import ResourceLimitError
+from .errors import (
+    GeometryTypeError,
+    InvalidGeometryError,
+    InvalidRadiusError,
+    RepairWarning,
+    ResourceLimitError,
+)
 from .limits import (
     MAX_COORDINATE,
     MAX_OUTPUT_VERTICES,
@@ -23,7 +28,8 @@ from .limits import (
 )
 from .tolerances import DEFAULT_TOLERANCE_R, MAX_QUAD_SEGS
 
-__all__ = ["check_output_size", "check_radius", "check_resolution", "check_shape", "check_tolerance", "quad_segs_for"]
+__all__ = ["check_output_size", "check_radius", "check_resolution", "check_shape", "check_tolerance",
+           "quad_segs_for"]
 
 
 def check_radius(r, name: str = "r") -> float:
@@ -126,7 +132,8 @@ def check_shape(S, name: str = "S", *, allow_empty: bool = False) -> Polygon | M
         raise InvalidGeometryError(f"{name} has NaN or infinite coordinates")
     if np.abs(coords).max() > MAX_COORDINATE:
         raise InvalidGeometryError(f"{name} has coordinates up to {np.abs(coords).max():.3g}; at most "
-                                   f"{MAX_COORDINATE:g} in absolute value are supported (areas would overflow)")
+                                   f"{MAX_COORDINATE:g} in absolute value are supported "
+                                   "(areas would overflow)")
     if not S.is_valid:
         reason = shapely.is_valid_reason(S)
         fixed = shapely.make_valid(S)

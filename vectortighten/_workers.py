@@ -122,7 +122,8 @@ def run_tasks(fn: Callable, tasks: Iterable[tuple], processes: int) -> Iterator[
                     s.key = None
                     s.stop(terminate=True)
                     slots.remove(s)
-                    why = f"killed by signal {-code}" if code is not None and code < 0 else f"exit code {code}"
+                    why = (f"killed by signal {-code}" if code is not None and code < 0
+                           else f"exit code {code}")
                     yield key, False, WorkerDied(f"the worker process died ({why}; out of memory?)")
                     if todo:
                         fresh = _Slot(ctx, fn)

@@ -59,7 +59,8 @@ MAX_COORDINATE = 1e100
 #: Largest number of drawn SVG elements once every ``<use>`` is expanded (nested uses multiply).
 MAX_SVG_ELEMENTS = 1_000_000
 
-#: Largest number of decoded pixels of an image, all pages counted (8192 × 8192).
+#: Largest number of decoded pixels of an image, all pages counted (8192 × 8192); the same as
+#: ``raster.io.MAX_PIXELS``, which the image readers apply to the size an image declares before decoding.
 MAX_PIXELS = 8192 * 8192
 
 #: Largest number of vertices of a sampled output geometry.
@@ -93,8 +94,8 @@ def min_radius(S) -> float:
     >>> from shapely.geometry import box
     >>> min_radius(box(0, 0, 10, 10))
     1e-07
-    >>> min_radius(box(1e6, 1e6, 1e6 + 10, 1e6 + 10))   # far from the origin: rounding of 1e6 counts
-    0.0001000001
+    >>> round(min_radius(box(1e6, 1e6, 1e6 + 10, 1e6 + 10)), 12)   # far from the origin: 1e6 counts
+    0.000100001
     """
     size, magnitude = _extent(S)
     return max(MIN_R_SIZE * size, MIN_R_MAGNITUDE * magnitude)

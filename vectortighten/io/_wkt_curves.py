@@ -78,7 +78,7 @@ class _Parser:
         return False
 
     def points(self) -> np.ndarray:
-        """``( x y [z [m]], ... )``"""
+        """A parenthesised list of points, ``( x y [z [m]], ... )``."""
         self.take("(")
         rows = []
         while True:
@@ -111,8 +111,9 @@ def _arc_points(p0, p1, p2, tol: float) -> np.ndarray:
         chord = max(float(np.hypot(*(p2 - p0))), float(np.hypot(*(p1 - p0))), 1e-300)
         if not math.isfinite(d) or abs(d) <= 1e-14 * chord * chord:
             return np.array([p1, p2]) if not np.array_equal(p1, p2) else p2[None, :]   # collinear: a line
-        ux = ((ax * ax + ay * ay) * (by - cy) + (bx * bx + by * by) * (cy - ay) + (cx * cx + cy * cy) * (ay - by)) / d
-        uy = ((ax * ax + ay * ay) * (cx - bx) + (bx * bx + by * by) * (ax - cx) + (cx * cx + cy * cy) * (bx - ax)) / d
+        a2_, b2_, c2_ = ax * ax + ay * ay, bx * bx + by * by, cx * cx + cy * cy
+        ux = (a2_ * (by - cy) + b2_ * (cy - ay) + c2_ * (ay - by)) / d
+        uy = (a2_ * (cx - bx) + b2_ * (ax - cx) + c2_ * (bx - ax)) / d
         center = np.array([ux, uy])
         radius = float(np.hypot(ax - ux, ay - uy))
         a0 = math.atan2(ay - uy, ax - ux)
@@ -133,8 +134,8 @@ def _arc_points(p0, p1, p2, tol: float) -> np.ndarray:
 
 def _circular(pts: np.ndarray, tol: float, source: str) -> np.ndarray:
     if len(pts) < 3 or len(pts) % 2 == 0:
-        raise InvalidGeometryError(f"{source}: malformed WKT (a CIRCULARSTRING needs an odd number of points, "
-                                   f"at least 3; got {len(pts)})")
+        raise InvalidGeometryError(f"{source}: malformed WKT (a CIRCULARSTRING needs an odd number of "
+                                   f"points, at least 3; got {len(pts)})")
     out = [pts[:1]]
     for k in range(0, len(pts) - 2, 2):
         out.append(_arc_points(pts[k], pts[k + 1], pts[k + 2], tol))
@@ -148,7 +149,7 @@ class _Reader:
         self.p, self.tol = p, tol
 
     def curve(self) -> np.ndarray:
-        """A ring's or a compound piece's points: ``(…)``, ``LINESTRING``, ``CIRCULARSTRING``, ``COMPOUNDCURVE``."""
+        """A ring's or a compound piece's points: ``(…)``, LINESTRING, CIRCULARSTRING or COMPOUNDCURVE."""
         p = self.p
         if p.peek()[0] == "(":
             return p.points()

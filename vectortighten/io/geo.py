@@ -145,7 +145,8 @@ def _read_plain_geojson(path: Path):
     except json.JSONDecodeError as exc:
         raise InvalidGeometryError(f"{path}: malformed GeoJSON ({exc.msg} at line {exc.lineno})") from None
     except RecursionError:
-        raise InvalidGeometryError(f"{path}: malformed GeoJSON (arrays or objects nested too deeply)") from None
+        raise InvalidGeometryError(f"{path}: malformed GeoJSON (arrays or objects nested too deeply)") \
+            from None
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)  # GEOS warns on NaN; checked below

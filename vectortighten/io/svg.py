@@ -144,8 +144,8 @@ def _prepare_svg(root, source: str) -> tuple[bytes, dict[str, int]]:
         if len(values) != 4:
             raise InvalidGeometryError(f"{source}: malformed SVG (viewBox={box!r} is not four numbers)")
         if not (values[2] > 0 and values[3] > 0):
-            raise InvalidGeometryError(f"{source}: the root viewBox={box!r} has a width or height that is not "
-                                       "positive; such an SVG draws nothing")
+            raise InvalidGeometryError(f"{source}: the root viewBox={box!r} has a width or height that is "
+                                       "not positive; such an SVG draws nothing")
     expanded = _expanded_count(root)
     if expanded > MAX_SVG_ELEMENTS:
         raise ResourceLimitError(f"{source}: refused: its <use> references expand to {expanded:.3g} drawn "
