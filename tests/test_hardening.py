@@ -309,6 +309,7 @@ BAD_FILES = {
     "usecycle.svg": svg('<defs><g id="a"><use xlink:href="#b"/></g>'
                         '<g id="b"><use xlink:href="#a"/></g></defs>'
                         '<use xlink:href="#a"/><rect width="5" height="5"/>'),
+    "namespace.svg": '<svg xmlns="http://www.w3.org2000/svg" viewBox="0 0 10 10"><rect width="5" height="5"/></svg>',
     "badcurve.wkt": "CURVEPOLYGON(CIRCULARSTRING(0 0, 4 0))",
     "openring.wkt": "CURVEPOLYGON(CIRCULARSTRING(0 0, 2 2, 4 0))",
     "nopolygon.wkt": "GEOMETRYCOLLECTION(POINT(0 0), LINESTRING(0 0, 1 1))",

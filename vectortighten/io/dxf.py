@@ -114,7 +114,11 @@ def read_dxf(path, *, layers=None, flatten: float | None = None, gap: float | No
     if wanted is not None and not wanted:
         raise ValueError("layers must name at least one layer")
     walk = _Walk(doc, name, wanted)
-    walk.run(msp)
+    try:
+        walk.run(msp)
+    except ezdxf.DXFError as exc:      # an entity of a corrupt file lacks what its type must have
+        detail = str(exc).split("\n")[0][:120] or type(exc).__name__
+        raise InvalidGeometryError(f"{name}: malformed DXF ({detail})") from None
     if wanted is not None:
         missing = sorted(wanted - walk.matched)
         if missing:

@@ -662,6 +662,10 @@ def _parse_shapes(data: bytes, name: str):
                         from None
         detail = f"{type(exc).__name__}: {exc}" if str(exc) else type(exc).__name__
         raise InvalidGeometryError(f"{name}: malformed SVG ({detail})") from None
+    if not isinstance(svg, se.SVG):     # e.g. a root <svg> in another namespace than the SVG one
+        ns = root.tag[1:].split("}", 1)[0] if isinstance(root.tag, str) and root.tag.startswith("{") else ""
+        raise InvalidGeometryError(f"{name}: malformed SVG (the root <svg> is not in the SVG namespace "
+                                   f"{_SVG_URI!r}{f'; it is in {ns!r}' if ns else ''})")
     # The root viewport maps user units to px; undo it so coordinates are the drawing's user units.
     view = _matrix(se.Matrix(svg.viewbox_transform)) if getattr(svg, "viewbox_transform", "") else np.eye(3)
     try:
