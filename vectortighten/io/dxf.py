@@ -107,7 +107,10 @@ def read_dxf(path, *, layers=None, flatten: float | None = None, gap: float | No
     if gap is not None and not (math.isfinite(gap) and gap >= 0):
         raise ValueError(f"gap must be a finite number >= 0, got {gap!r}")
     doc = _open(ezdxf, path, name)
-    msp = doc.modelspace()
+    try:
+        msp = doc.modelspace()
+    except (KeyError, ezdxf.DXFError):      # a corrupt file whose block records lack the model space
+        raise InvalidGeometryError(f"{name}: malformed DXF (it has no model space)") from None
     if len(msp) == 0:
         raise InvalidGeometryError(f"{name}: the model space is empty (nothing to read)")
     wanted = None if layers is None else {str(n).casefold() for n in layers}
