@@ -43,7 +43,7 @@ from .centers import ArcCenters, _arc_centers, _centres_near, _snap_vertices, bo
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
-from .tolerances import EXACT_CHORD_R, PENETRATION_R, THICKEN_R, TOUCH_SCALE, ZERO_SCALE
+from .tolerances import DOMAIN_CHORD_R, EXACT_CHORD_R, PENETRATION_R, THICKEN_R, TOUCH_SCALE, ZERO_SCALE
 
 __all__ = ["Init", "Tightening", "tighten"]
 
@@ -100,7 +100,7 @@ class _Context:
         self.delta = THICKEN_R * r
         self.q_exact = quad_segs_for(r, EXACT_CHORD_R * r)
         self.sag = r * (1.0 - math.cos(math.pi / (4 * self.q_exact)))
-        self.q = quad_segs_for(r, 0.1 * self.delta)
+        self.q = quad_segs_for(r, DOMAIN_CHORD_R * r)
         self.sag_dom = r * (1.0 - math.cos(math.pi / (4 * self.q)))
         self.tol_int = 0.1 * self.delta
         # A piece may come closer than r to an exact centre only by rounding; to an edge of the buffered
