@@ -34,7 +34,7 @@ import shapely
 from scipy.spatial import cKDTree
 from shapely.geometry import MultiPolygon, Polygon
 
-from . import _fast
+from . import _convex, _fast
 from . import morphology as _m
 from ._pieces import piece_distance
 from ._proximity import EdgeIndex, PointIndex
@@ -1261,6 +1261,11 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
     r_l, tol_l = r / frame.scale, tol / frame.scale
     q_exact = quad_segs_for(r_l, EXACT_CHORD_R * r_l)
     fast = _fast.fast_disk_loops(S_local, r_l, q_exact, init.value) if allow_fast else None
+    path = "fast"
+    if fast is None and allow_fast:
+        # A convex polygon's tightening is its opening, for every init (proof in `_convex`).
+        loop = _convex.convex_disk_loop(S_local, r_l)
+        fast, path = ([loop], "convex") if loop is not None else (None, path)
     ctx = None
     if fast is not None:
         disk_loops = [_DiskLoop(np.full(len(c), -1), s.astype(np.int64), c, phi, ln, sw, r_l)
@@ -1282,5 +1287,5 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
                       "anticore (Tightening.verify() lists where)", ConvergenceWarning, stacklevel=3)
     result._cache["_exact"] = (ctx, disk_loops, (S_local, r_l, tol_l))
     result._cache["_frame"] = frame
-    result._cache["_path"] = "fast" if fast is not None else "general"
+    result._cache["_path"] = path if fast is not None else "general"
     return result
