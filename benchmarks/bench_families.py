@@ -135,6 +135,28 @@ def measure_one(family: str, n: int, repeats: int) -> dict:
     }
 
 
+def profile_one(family: str, n: int, top: int = 25) -> str:
+    """cProfile of one ``tighten`` of a family at one size: the heaviest entries, cumulative and own time."""
+    import cProfile
+    import io
+    import pstats
+
+    import vectortighten as vt
+
+    make, r = FAMILIES[family]
+    S = make(n)
+    pr = cProfile.Profile()
+    pr.enable()
+    vt.tighten(S, r, tolerance=1e-5 * r)
+    pr.disable()
+    out = io.StringIO()
+    st = pstats.Stats(pr, stream=out)
+    st.sort_stats("cumulative").print_stats(top)
+    st.sort_stats("tottime").print_stats(12)
+    text = out.getvalue().replace(str(HERE.parent) + "/", "")
+    return "\n".join(ln for ln in text.splitlines() if ln.strip())
+
+
 def _child(family: str, n: int, repeats: int, timeout: float) -> dict:
     cmd = [sys.executable, __file__, "--child", family, str(n), str(repeats)]
     try:
@@ -182,6 +204,19 @@ def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if argv and argv[0] == "--child":
         print(json.dumps(measure_one(argv[1], int(argv[2]), int(argv[3]))), flush=True)
+        return 0
+    if argv and argv[0] == "--profile":
+        # --profile N FAMILY...: one profiled run of each family at N vertices, appended to families_profiles.md
+        n, fams = int(argv[1]), argv[2:] or list(FAMILIES)
+        path = HERE / "results" / "families_profiles.md"
+        parts = [f"# Where the time goes: cProfile of one `tighten` per family at ~{n} vertices", "",
+                 f"Command: `python benchmarks/bench_families.py --profile {n} "
+                 f"{' '.join(repr(f) for f in fams)}` (profiling inflates the times; the ratios between "
+                 "entries are what to read).", ""]
+        for fam in fams:
+            parts += [f"## {fam}", "", "```", profile_one(fam, n), "```", ""]
+            print(f"profiled {fam}", flush=True)
+        path.write_text("\n".join(parts) + "\n")
         return 0
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--families", nargs="+", default=list(FAMILIES))

@@ -23,8 +23,8 @@ Proof.
    mortar. So ∂R is the tight loop, T = R, for every init. ∎
 
 The loop is computed in O(n log n): a half-plane intersection (Qhull, through
-`scipy.spatial.HalfspaceIntersection`) from an interior point found by a linear programme (the Chebyshev
-centre), then every vertex solved again exactly from its two edge lines. Anything degenerate (S↓r empty
+`scipy.spatial.HalfspaceIntersection`) from an interior point (the centroid of GEOS's shrink, checked
+against every offset edge line), then every vertex solved again exactly from its two edge lines. Anything degenerate (S↓r empty
 or without interior, qhull failure) returns None and the caller uses the general engine; so does dense
 input (a vertex within r/20 of its neighbours' chord), where the general engine's answer, built on GEOS's
 simplified buffers, is not the closed form's to 1e-12.
@@ -88,9 +88,6 @@ def convex_disk_loop(S, r: float):
         direction and length of each tangent leaving a disk and each arc's sweep; None when S is not a
         convex polygon with ``S↓r`` of non-empty interior (the general engine then decides).
     """
-    from scipy.optimize import linprog
-    from scipy.spatial import HalfspaceIntersection
-
     c = _convex_ring(S)
     if c is None:
         return None
@@ -109,13 +106,17 @@ def convex_disk_loop(S, r: float):
     c, d, ln = c[keep], d[keep], ln[keep]
     nrm = np.column_stack([-d[:, 1], d[:, 0]]) / ln[:, None]        # inward (left) unit normals
     off = (nrm * c).sum(axis=1) + r                                  # n·x ≥ off on S↓r
-    # Chebyshev centre of S: maximise t with n·x − t ≥ n·a.
-    res = linprog(np.array([0.0, 0.0, -1.0]),
-                  A_ub=np.column_stack([-nrm, np.ones(len(nrm))]), b_ub=-(off - r),
-                  bounds=[(None, None), (None, None), (0, None)], method="highs")
-    if not res.success or res.x[2] <= r * (1.0 + 1e-6):
-        return None                                                   # S↓r empty or too thin
-    inner = res.x[:2]
+    # A point inside S↓r: the centroid of GEOS's shrink (convex, so its centroid is inside it), checked
+    # against every offset edge line; S↓r empty or too thin to hold one is left to the general engine.
+    import shapely
+    from scipy.spatial import HalfspaceIntersection
+
+    K = shapely.buffer(S, -r, quad_segs=2)
+    if K.is_empty or K.geom_type != "Polygon":
+        return None
+    inner = np.asarray(K.centroid.coords[0], dtype=float)
+    if not ((nrm @ inner - off) > 1e-6 * r).all():
+        return None
     try:
         hs = HalfspaceIntersection(np.column_stack([-nrm, off]), inner)
     except Exception:  # noqa: BLE001 - qhull's errors: let the general engine decide
