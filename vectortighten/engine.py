@@ -42,7 +42,7 @@ from ._validation import check_radius, check_shape, check_tolerance, quad_segs_f
 from .centers import ArcCenters, _arc_centers, _centres_near, _snap_vertices, boundary_edges
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
-from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
+from .geodesic import Triangulation, _unique_rows, closed_geodesic, sleeve, triangulate
 from .tolerances import DOMAIN_CHORD_R, EXACT_CHORD_R, PENETRATION_R, THICKEN_R, TOUCH_SCALE, ZERO_SCALE
 
 __all__ = ["Init", "Tightening", "tighten"]
@@ -164,8 +164,7 @@ class _Context:
         R_d = self.R.buffer(-d, join_style="mitre", mitre_limit=10.0) if not self.R.is_empty else Polygon()
         M = _m._polygonal(shapely.difference(F_d, R_d))
         parts = list(shapely.get_parts(M))
-        core_xy = shapely.get_coordinates(R_d) if not R_d.is_empty else np.zeros((0, 2))
-        self._core_vertices = {tuple(p) for p in core_xy.tolist()}
+        self._core_xy = shapely.get_coordinates(R_d) if not R_d.is_empty else np.zeros((0, 2))
         self._domain = (parts, shapely.STRtree(parts), [None] * len(parts))
 
     def component_of(self, ring: np.ndarray) -> int:
@@ -191,7 +190,10 @@ class _Context:
     def _vertex_centers(self, T: Triangulation) -> np.ndarray:
         """Exact-centre index for each triangulation vertex that lies on an arc of the core or fillet."""
         out = np.full(len(T.xy), -1, dtype=np.int64)
-        is_core = np.array([tuple(p) in self._core_vertices for p in T.xy.tolist()], dtype=bool)
+        # The vertices that are the thickened core's own (coordinates equal bit for bit), by one sort.
+        nv = len(T.xy)
+        _, ids = _unique_rows(np.concatenate([T.xy, self._core_xy]))
+        is_core = np.isin(ids[:nv], ids[nv:])
         want = self.r - self.delta
         slack = 0.5 * self.delta + 4.0 * self.sag_dom
         for side, mask in ((1, is_core), (-1, ~is_core)):

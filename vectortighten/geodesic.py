@@ -557,6 +557,8 @@ class _WalkData:
     cx: np.ndarray          # (3, nt) corner x of each triangle
     cy: np.ndarray          # (3, nt) corner y
     rule3: np.ndarray       # (3, nt) rule, slot by slot
+    flip: np.ndarray        # (nt, 3) bool: the slot runs from the higher vertex id to the lower
+    flip3: np.ndarray       # (3, nt) flip, slot by slot
     bbox: np.ndarray | None = None     # (4, nt): xmin, xmax, ymin, ymax, for exact point location
     guess: tuple | None = None         # boundary edges in Z-order, for `_boundary_guess`
 
@@ -572,12 +574,14 @@ def _walk_data(T: Triangulation) -> _WalkData:
             nb = np.maximum(nbr, 0)
             entry = np.where(nbr >= 0, np.argmax(sedge[nb] == sedge[:, :, None], axis=2), -1)
         rule = (tri < tri[:, _NEXT]) | (nbr < 0)
+        flip = tri > tri[:, _NEXT]
         T._walk = _WalkData(X=np.ascontiguousarray(T.xy[:, 0]), Y=np.ascontiguousarray(T.xy[:, 1]), tri=tri,
                             nbr=nbr, sedge=sedge, entry=np.asarray(entry, dtype=np.int64), rule=rule,
                             ev0=np.asarray(T.edge_vertices[:, 0], dtype=np.int64),
                             cx=np.ascontiguousarray(T.xy[:, 0][tri.T]),
                             cy=np.ascontiguousarray(T.xy[:, 1][tri.T]),
-                            rule3=np.ascontiguousarray(rule.T))
+                            rule3=np.ascontiguousarray(rule.T), flip=flip,
+                            flip3=np.ascontiguousarray(flip.T))
     return T._walk
 
 
@@ -585,8 +589,20 @@ def _inside(W: _WalkData, cand: np.ndarray, p) -> np.ndarray:
     """Which candidate triangles hold p, by the on-edge convention of `_locate`."""
     V = W.tri[cand]
     q = np.stack([W.X[V], W.Y[V]], axis=-1)
-    o = np.stack([_orient(q[:, k], q[:, (k + 1) % 3], np.asarray(p)[None, :]) for k in range(3)], axis=1)
+    o = np.stack([_edge_orient(q[:, k], q[:, (k + 1) % 3], np.asarray(p)[None, :], W.flip[cand, k])
+                  for k in range(3)], axis=1)
     return ((o > 0) | ((o == 0) & W.rule[cand])).all(axis=1)
+
+
+def _edge_orient(a, b, p, flip) -> np.ndarray:
+    """`_orient` (a, b, p) evaluated from the edge's lower vertex id (``flip``: b is that one), negated.
+
+    Floating-point orientation is not exactly antisymmetric: ``orient(a, b, p)`` and ``−orient(b, a, p)``
+    may differ in their last bits, so a point on an edge shared by two triangles could be claimed by
+    neither. Evaluating every edge in one direction makes the two triangles' tests exact negatives.
+    """
+    o = np.where(flip, -_orient(b, a, p), _orient(a, b, p))
+    return o
 
 
 def _locate(T: Triangulation, p) -> int:
@@ -736,7 +752,12 @@ def _lockstep(W: _WalkData, start: np.ndarray, first: np.ndarray, stop: np.ndarr
         # edge straddles the line p→q, and it is not the slot the walker came in through.
         vx1 = vx[_NEXT]
         vy1 = vy[_NEXT]
-        oq = (vx1 - vx) * (aqy - vy) - (vy1 - vy) * (aqx - vx)
+        # Evaluated from each edge's lower vertex id (see `_edge_orient`).
+        fl = W.flip3[:, ct]
+        ax, ay = np.where(fl, vx1, vx), np.where(fl, vy1, vy)
+        bx, by = np.where(fl, vx, vx1), np.where(fl, vy, vy1)
+        oq = (bx - ax) * (aqy - ay) - (by - ay) * (aqx - ax)
+        oq = np.where(fl, -oq, oq)
         stay = (oq > 0) | ((oq == 0) & W.rule3[:, ct])
         cand = ~stay & (sp != sp[_NEXT]) & (slot != ce)
         moves = cand[0] | cand[1] | cand[2]
@@ -806,6 +827,7 @@ def _walk_py(W: _WalkData, t: int, entry: int, steps: int, i: int, stop: int, px
             vx = W.X[tv].tolist()
             vy = W.Y[tv].tolist()
             rule = W.rule[t].tolist()
+            flip = W.flip[t].tolist()
             exit_k = -1
             for k in range(3):
                 if k == entry:
@@ -813,7 +835,11 @@ def _walk_py(W: _WalkData, t: int, entry: int, steps: int, i: int, stop: int, px
                 k1 = (k + 1) % 3
                 # q right of the edge (outside the triangle) and the edge straddles p→q. On the edge
                 # itself, q belongs to the triangle on the left of (u, v) with u < v.
-                oq = (vx[k1] - vx[k]) * (q_y - vy[k]) - (vy[k1] - vy[k]) * (q_x - vx[k])
+                # (Evaluated from the edge's lower vertex id, see `_edge_orient`.)
+                if flip[k]:
+                    oq = -((vx[k] - vx[k1]) * (q_y - vy[k1]) - (vy[k] - vy[k1]) * (q_x - vx[k1]))
+                else:
+                    oq = (vx[k1] - vx[k]) * (q_y - vy[k]) - (vy[k1] - vy[k]) * (q_x - vx[k])
                 if oq > 0 or (oq == 0 and rule[k]):
                     continue
                 o1 = (q_x - p_x) * (vy[k] - p_y) - (q_y - p_y) * (vx[k] - p_x)
