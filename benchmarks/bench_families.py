@@ -1,4 +1,4 @@
-"""The general engine against shapely's opening + closing, family by family, from 1k to 1M vertices (issue 20).
+"""The general engine against shapely's opening + closing, family by family, 1k to 1M vertices (issue 20).
 
 Families (each at about n vertices; r in the shape's units):
 
@@ -145,7 +145,7 @@ def profile_one(family: str, n: int, top: int = 25) -> str:
 
     make, r = FAMILIES[family]
     S = make(n)
-    pr = cProfile.Profile()
+    pr = cProfile.Profile(time.process_time)     # CPU time: the machine is shared
     pr.enable()
     vt.tighten(S, r, tolerance=1e-5 * r)
     pr.disable()
@@ -206,12 +206,12 @@ def main(argv=None) -> int:
         print(json.dumps(measure_one(argv[1], int(argv[2]), int(argv[3]))), flush=True)
         return 0
     if argv and argv[0] == "--profile":
-        # --profile N FAMILY...: one profiled run of each family at N vertices, appended to families_profiles.md
+        # --profile N FAMILY...: one profiled run of each family at N vertices, to families_profiles_N.md
         n, fams = int(argv[1]), argv[2:] or list(FAMILIES)
-        path = HERE / "results" / "families_profiles.md"
+        path = HERE / "results" / f"families_profiles_{n}.md"
         parts = [f"# Where the time goes: cProfile of one `tighten` per family at ~{n} vertices", "",
                  f"Command: `python benchmarks/bench_families.py --profile {n} "
-                 f"{' '.join(repr(f) for f in fams)}` (profiling inflates the times; the ratios between "
+                 f"{' '.join(repr(f) for f in fams)}` (CPU time; profiling inflates it, the ratios between "
                  "entries are what to read).", ""]
         for fam in fams:
             parts += [f"## {fam}", "", "```", profile_one(fam, n), "```", ""]
@@ -276,7 +276,7 @@ def main(argv=None) -> int:
     for fam in args.families:
         sub = [m for m in rows if m["family"] == fam and "error" not in m]
         exps = [math.log(b["tighten"] / a["tighten"]) / math.log(b["vertices"] / a["vertices"])
-                for a, b in zip(sub, sub[1:])]
+                for a, b in zip(sub, sub[1:], strict=False)]
         lines.append(f"- {fam}: " + (", ".join(f"{e:.2f}" for e in exps) or "–"))
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text("\n".join(lines) + "\n")

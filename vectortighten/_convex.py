@@ -24,10 +24,10 @@ Proof.
 
 The loop is computed in O(n log n): a half-plane intersection (Qhull, through
 `scipy.spatial.HalfspaceIntersection`) from an interior point (the centroid of GEOS's shrink, checked
-against every offset edge line), then every vertex solved again exactly from its two edge lines. Anything degenerate (S↓r empty
-or without interior, qhull failure) returns None and the caller uses the general engine; so does dense
-input (a vertex within r/20 of its neighbours' chord), where the general engine's answer, built on GEOS's
-simplified buffers, is not the closed form's to 1e-12.
+against every offset edge line), then every vertex solved again exactly from its two edge lines.
+Anything degenerate (S↓r empty or without interior, qhull failure) returns None and the caller uses the
+general engine; so does dense input (a vertex within r/20 of its neighbours' chord), where the general
+engine's answer, built on GEOS's simplified buffers, is not the closed form's to 1e-12.
 """
 
 from __future__ import annotations
