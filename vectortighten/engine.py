@@ -42,7 +42,7 @@ from ._validation import check_radius, check_shape, check_tolerance, quad_segs_f
 from .centers import ArcCenters, _arc_centers, _centres_near, _snap_vertices, boundary_edges
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
-from .geodesic import Triangulation, _unique_rows, closed_geodesic, sleeve, triangulate
+from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
 from .tolerances import DOMAIN_CHORD_R, EXACT_CHORD_R, PENETRATION_R, THICKEN_R, TOUCH_SCALE, ZERO_SCALE
 
 __all__ = ["Init", "Tightening", "tighten"]
@@ -164,7 +164,8 @@ class _Context:
         R_d = self.R.buffer(-d, join_style="mitre", mitre_limit=10.0) if not self.R.is_empty else Polygon()
         M = _m._polygonal(shapely.difference(F_d, R_d))
         parts = list(shapely.get_parts(M))
-        self._core_xy = shapely.get_coordinates(R_d) if not R_d.is_empty else np.zeros((0, 2))
+        core_xy = shapely.get_coordinates(R_d) if not R_d.is_empty else np.zeros((0, 2))
+        self._core_keys = np.sort(_point_keys(core_xy))
         self._domain = (parts, shapely.STRtree(parts), [None] * len(parts))
 
     def component_of(self, ring: np.ndarray) -> int:
@@ -190,10 +191,10 @@ class _Context:
     def _vertex_centers(self, T: Triangulation) -> np.ndarray:
         """Exact-centre index for each triangulation vertex that lies on an arc of the core or fillet."""
         out = np.full(len(T.xy), -1, dtype=np.int64)
-        # The vertices that are the thickened core's own (coordinates equal bit for bit), by one sort.
-        nv = len(T.xy)
-        _, ids = _unique_rows(np.concatenate([T.xy, self._core_xy]))
-        is_core = np.isin(ids[:nv], ids[nv:])
+        # The vertices that are the thickened core's own (equal coordinates), looked up among its sorted keys.
+        keys, core = _point_keys(T.xy), self._core_keys
+        at = np.minimum(np.searchsorted(core, keys), max(len(core) - 1, 0))
+        is_core = (core[at] == keys) if len(core) else np.zeros(len(keys), dtype=bool)
         want = self.r - self.delta
         slack = 0.5 * self.delta + 4.0 * self.sag_dom
         for side, mask in ((1, is_core), (-1, ~is_core)):
@@ -276,6 +277,12 @@ class _Context:
         if self.ctree is None:
             return np.zeros(0, int), np.zeros(0, int)
         return self.ctree.query(shapely.points(xy), predicate="dwithin", distance=radius)
+
+
+def _point_keys(xy: np.ndarray) -> np.ndarray:
+    """One sortable 16-byte key per point, equal exactly when the coordinates are equal (−0.0 as 0.0)."""
+    a = np.ascontiguousarray(np.asarray(xy, dtype=np.float64).reshape(-1, 2) + 0.0)
+    return a.view(np.dtype((np.void, 16))).ravel()
 
 
 def _distinct_centers(xy: np.ndarray, side: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
