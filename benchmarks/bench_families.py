@@ -33,6 +33,7 @@ import argparse
 import json
 import math
 import platform
+import re
 import resource
 import statistics
 import subprocess
@@ -205,6 +206,10 @@ def main(argv=None) -> int:
     if argv and argv[0] == "--child":
         print(json.dumps(measure_one(argv[1], int(argv[2]), int(argv[3]))), flush=True)
         return 0
+    if argv and argv[0] == "--from-logs":
+        # --from-logs OUT.md LOG...: the report of runs split across processes, from their progress lines
+        write_report(rows_from_logs(argv[2:]), Path(argv[1]), command="several runs, see below", repeats=3)
+        return 0
     if argv and argv[0] == "--profile":
         # --profile N FAMILY...: one profiled run of each family at N vertices, to families_profiles_N.md
         n, fams = int(argv[1]), argv[2:] or list(FAMILIES)
@@ -246,19 +251,61 @@ def main(argv=None) -> int:
                   f"tighten {m['tighten']:.3f}s ratio {m['ratio']:.1f} ({m['path']}, verified "
                   f"{m['verified']}, verify {m['verify']:.2f}s, peak {m['peak_mib']:.0f} MiB)", flush=True)
             skip = max(m["tighten"], m["base8"], m["base_tol"]) > args.budget
+    write_report(rows, args.out, command=(
+        f"`python benchmarks/bench_families.py --families {' '.join(repr(f) for f in args.families)} "
+        f"--sizes {' '.join(map(str, args.sizes))} --repeats {args.repeats} --budget {args.budget:g}`"),
+        repeats=args.repeats)
+    return 0
+
+
+_LINE = re.compile(r"^(?P<family>.+?)\s+n=\s*(?P<vertices>\d+) (?:base8 (?P<base8>[\d.]+)s base_tol "
+                   r"(?P<base_tol>[\d.]+)s tighten (?P<tighten>[\d.]+)s ratio [\d.]+ \((?P<path>\w+), "
+                   r"verified "
+                   r"(?P<verified>\w+), verify (?P<verify>[\d.]+)s, peak (?P<peak>\d+) MiB\)|(?P<error>.+))$")
+
+
+_PARTS = {"harmonic star": 1, "jagged star": 1, "traced outline": 1}
+
+
+def rows_from_logs(paths) -> list[dict]:
+    """The rows of earlier runs, from the progress lines they printed (runs split across processes)."""
+    rows = []
+    for path in paths:
+        for ln in Path(path).read_text().splitlines():
+            m = _LINE.match(ln.strip())
+            if not m or m["family"] not in FAMILIES:
+                continue
+            row = {"family": m["family"], "vertices": int(m["vertices"])}
+            if m["error"]:
+                row["error"] = m["error"]
+            else:
+                row.update(r=FAMILIES[m["family"]][1], parts=_PARTS.get(m["family"], "–"),
+                           base8=float(m["base8"]),
+                           base_tol=float(m["base_tol"]), tighten=float(m["tighten"]), path=m["path"],
+                           verified=m["verified"] == "True", verify=float(m["verify"]),
+                           peak_mib=float(m["peak"]))
+                row["ratio"] = row["tighten"] / row["base8"]
+                row["ratio_tol"] = row["tighten"] / row["base_tol"]
+            rows.append(row)
+    order = list(FAMILIES)
+    return sorted(rows, key=lambda m: (order.index(m["family"]), m["vertices"]))
+
+
+def write_report(rows: list[dict], out: Path, command: str, repeats: int) -> None:
+    """The markdown table, the growth exponents and the log-log plot of ``rows``."""
+    families = list(dict.fromkeys(m["family"] for m in rows))
     lines = [
         "# The general engine by family (issue 20)",
         "",
         f"Machine: {platform.machine()}, 2 cores shared with other work, Python {platform.python_version()}, "
         f"shapely {shapely.__version__} (GEOS {'.'.join(map(str, shapely.geos_version))}). CPU seconds, "
-        f"medians of {args.repeats} alternating runs below 100k vertices, 1 from there on. Command: "
-        f"`python benchmarks/bench_families.py --families {' '.join(repr(f) for f in args.families)} "
-        f"--sizes {' '.join(map(str, args.sizes))} --repeats {args.repeats} --budget {args.budget:g}`.",
+        f"medians of {repeats} alternating runs below 100k vertices, 1 from there on. Command: {command}.",
         "",
         "*opening + closing*: `S.buffer(-r).buffer(r)` and `S.buffer(r).buffer(-r)` at shapely's default "
         "quad_segs (8), and at the engine's tolerance 1e-5·r (quad_segs 176); *ratio*: tighten over the "
         "first; *verified*: `T.verify()` found nothing (its own time beside it); *peak*: the peak resident "
-        "memory of the measuring process during the runs, over what it held before.",
+        "memory of the measuring process during the runs, over what it held once the shape was built "
+        "(0: no more than building the shape took).",
         "",
         "| family | vertices | parts | r | opening + closing, default (s) | at 1e-5·r (s) | tighten (s) "
         "| ratio | ratio at 1e-5·r | path | verified | verify (s) | peak (MiB) |",
@@ -273,17 +320,18 @@ def main(argv=None) -> int:
             f"| {m['base_tol']:.3f} | {m['tighten']:.3f} | {m['ratio']:.1f} | {m['ratio_tol']:.1f} "
             f"| {m['path']} | {'yes' if m['verified'] else 'no'} | {m['verify']:.2f} | {m['peak_mib']:.0f} |")
     lines += ["", "Growth of the tightening's time (exponent of n between consecutive sizes):", ""]
-    for fam in args.families:
+    for fam in families:
         sub = [m for m in rows if m["family"] == fam and "error" not in m]
         exps = [math.log(b["tighten"] / a["tighten"]) / math.log(b["vertices"] / a["vertices"])
                 for a, b in zip(sub, sub[1:], strict=False)]
         lines.append(f"- {fam}: " + (", ".join(f"{e:.2f}" for e in exps) or "–"))
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text("\n".join(lines) + "\n")
-    (args.out.with_suffix(".json")).write_text(json.dumps(rows, indent=1))
-    plot(rows, args.out.with_suffix(".png"))
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text("\n".join(lines) + "\n")
+    (out.with_suffix(".json")).write_text(json.dumps(rows, indent=1))
+    plot(rows, out.with_suffix(".png"))
     print("\n".join(lines))
-    return 0
+
+
 
 
 if __name__ == "__main__":
