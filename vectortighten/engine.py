@@ -34,7 +34,7 @@ import shapely
 from scipy.spatial import cKDTree
 from shapely.geometry import MultiPolygon, Polygon
 
-from . import _fast
+from . import _convex, _fast
 from . import morphology as _m
 from ._pieces import piece_distance
 from ._proximity import EdgeIndex, PointIndex
@@ -45,7 +45,7 @@ from .centers import ArcCenters, _arc_centers, _centres_near, _snap_vertices, bo
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
-from .tolerances import EXACT_CHORD_R, PENETRATION_R, THICKEN_R, TOUCH_SCALE, ZERO_SCALE
+from .tolerances import DOMAIN_CHORD_R, EXACT_CHORD_R, PENETRATION_R, THICKEN_R, TOUCH_SCALE, ZERO_SCALE
 
 __all__ = ["Init", "Tightening", "tighten"]
 
@@ -102,7 +102,7 @@ class _Context:
         self.delta = THICKEN_R * r
         self.q_exact = quad_segs_for(r, EXACT_CHORD_R * r)
         self.sag = r * (1.0 - math.cos(math.pi / (4 * self.q_exact)))
-        self.q = quad_segs_for(r, 0.1 * self.delta)
+        self.q = quad_segs_for(r, DOMAIN_CHORD_R * r)
         self.sag_dom = r * (1.0 - math.cos(math.pi / (4 * self.q)))
         self.tol_int = 0.1 * self.delta
         # A piece may come closer than r to an exact centre only by rounding; to an edge of the buffered
@@ -167,7 +167,7 @@ class _Context:
         M = _m._polygonal(shapely.difference(F_d, R_d))
         parts = list(shapely.get_parts(M))
         core_xy = shapely.get_coordinates(R_d) if not R_d.is_empty else np.zeros((0, 2))
-        self._core_vertices = {tuple(p) for p in core_xy.tolist()}
+        self._core_keys = np.sort(_point_keys(core_xy))
         self._domain = (parts, shapely.STRtree(parts), [None] * len(parts))
 
     def component_of(self, ring: np.ndarray) -> int:
@@ -193,7 +193,10 @@ class _Context:
     def _vertex_centers(self, T: Triangulation) -> np.ndarray:
         """Exact-centre index for each triangulation vertex that lies on an arc of the core or fillet."""
         out = np.full(len(T.xy), -1, dtype=np.int64)
-        is_core = np.array([tuple(p) in self._core_vertices for p in T.xy.tolist()], dtype=bool)
+        # The vertices that are the thickened core's own (equal coordinates), looked up among its sorted keys.
+        keys, core = _point_keys(T.xy), self._core_keys
+        at = np.minimum(np.searchsorted(core, keys), max(len(core) - 1, 0))
+        is_core = (core[at] == keys) if len(core) else np.zeros(len(keys), dtype=bool)
         want = self.r - self.delta
         slack = 0.5 * self.delta + 4.0 * self.sag_dom
         for side, mask in ((1, is_core), (-1, ~is_core)):
@@ -276,6 +279,12 @@ class _Context:
         if self.ctree is None:
             return np.zeros(0, int), np.zeros(0, int)
         return self.ctree.query(shapely.points(xy), predicate="dwithin", distance=radius)
+
+
+def _point_keys(xy: np.ndarray) -> np.ndarray:
+    """One sortable 16-byte key per point, equal exactly when the coordinates are equal (−0.0 as 0.0)."""
+    a = np.ascontiguousarray(np.asarray(xy, dtype=np.float64).reshape(-1, 2) + 0.0)
+    return a.view(np.dtype((np.void, 16))).ravel()
 
 
 def _distinct_centers(xy: np.ndarray, side: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
@@ -1278,6 +1287,11 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
     r_l, tol_l = r / frame.scale, tol / frame.scale
     q_exact = quad_segs_for(r_l, EXACT_CHORD_R * r_l)
     fast = _fast.fast_disk_loops(S_local, r_l, q_exact, init.value) if allow_fast else None
+    path = "fast"
+    if fast is None and allow_fast:
+        # A convex polygon's tightening is its opening, for every init (proof in `_convex`).
+        loop = _convex.convex_disk_loop(S_local, r_l)
+        fast, path = ([loop], "convex") if loop is not None else (None, path)
     ctx = None
     if fast is not None:
         disk_loops = [_DiskLoop(np.full(len(c), -1), s.astype(np.int64), c, phi, ln, sw, r_l)
@@ -1299,5 +1313,5 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
                       "anticore (Tightening.verify() lists where)", ConvergenceWarning, stacklevel=3)
     result._cache["_exact"] = (ctx, disk_loops, (S_local, r_l, tol_l))
     result._cache["_frame"] = frame
-    result._cache["_path"] = "fast" if fast is not None else "general"
+    result._cache["_path"] = path if fast is not None else "general"
     return result

@@ -1,7 +1,10 @@
 """Shortest paths and shortest closed curves in a polygonal domain, in a given homotopy class.
 
-The free space (a polygon with holes) is triangulated by ear clipping (earcut), or with shapely's
-constrained Delaunay triangulation where earcut's triangles do not conform to the boundary. A closed curve
+The free space (a polygon with holes) is triangulated by CDT (a constrained Delaunay triangulation in
+C++, pythoncdt; O(n log n), robust predicates), or, where CDT refuses the domain, by ear clipping
+(earcut) and shapely's constrained Delaunay triangulation where earcut's triangles do not conform to the
+boundary. (Measured on the free space of a 10k-vertex rippled star, 32k vertices: CDT 0.05 s, Shewchuk's
+Triangle 0.05 s, earcut 0.4 s and not conforming, GEOS many seconds.) A closed curve
 in it is described by the sequence of triangle edges it crosses; cancelling immediate back-and-forth
 crossings (cyclically) leaves its *sleeve*, which determines its free homotopy class. The shortest curve in
 the class is found by the funnel algorithm (string pulling through the sleeve's portals) on the sleeve
@@ -298,11 +301,12 @@ def _twins(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     return twin
 
 
-def _build_indexed(verts: np.ndarray, idx: np.ndarray) -> tuple[Triangulation, np.ndarray]:
+def _build_indexed(verts: np.ndarray, idx: np.ndarray, distinct: bool = False) -> tuple[Triangulation, np.ndarray]:
     """Vertices, triangles (counter-clockwise) and edge adjacency of triangles given by vertex indices.
 
     Returns the triangulation and, for each input vertex, its vertex id (−1 if no triangle uses it).
     Equal points are merged, and the vertices are numbered in lexicographic order of their coordinates.
+    With ``distinct`` the vertices are already distinct and sorted so (and all used).
     """
     if len(idx) == 0:
         return (Triangulation(np.zeros((0, 2)), np.zeros((0, 3), int), np.zeros((0, 2), int),
@@ -310,7 +314,9 @@ def _build_indexed(verts: np.ndarray, idx: np.ndarray) -> tuple[Triangulation, n
     used = np.zeros(len(verts), dtype=bool)
     used[idx.reshape(-1)] = True
     vid = np.full(len(verts), -1, dtype=np.int64)
-    if used.all():
+    if distinct:
+        xy, vid = verts, np.arange(len(verts))
+    elif used.all():
         xy, vid = _unique_rows(verts)
     else:
         sel = np.flatnonzero(used)
@@ -379,10 +385,112 @@ def _conforms(T: Triangulation, vid: np.ndarray, ends: np.ndarray) -> bool:
     return bool(np.array_equal(np.sort(have), np.sort(want)))
 
 
+def _cdt_mesh(domain) -> tuple[np.ndarray, np.ndarray] | None:
+    """The constrained Delaunay triangulation of a polygonal domain by CDT (pythoncdt), or None.
+
+    The ring vertices are merged where they coincide (rings of a valid polygon may touch at points), the
+    ring edges are the constraints, and the triangles outside the domain and in its holes are erased by
+    CDT's depth parity. No vertex is added: if CDT finds constraint edges that cross (an invalid domain)
+    or cannot erase cleanly, None is returned and the caller falls back to GEOS.
+
+    Returns
+    -------
+    xy : (nv, 2) float
+        The distinct ring vertices, sorted lexicographically.
+    tri : (nt, 3) int
+        Counter-clockwise triangles, indices into ``xy``.
+    """
+    try:
+        import pythoncdt
+    except ImportError:  # pragma: no cover - the dependency is declared
+        return None
+    parts = [p for p in shapely.get_parts(domain) if not p.is_empty]
+    if not parts:
+        return None
+    rings = [_rings_of(p) for p in parts]
+    verts = np.concatenate([v for v, _ in rings])
+    starts, stops, base = [], [], 0
+    for v, ends in rings:
+        starts.append(base + np.r_[0, ends[:-1]])
+        stops.append(base + ends)
+        base += len(v)
+    starts, stops = np.concatenate(starts), np.concatenate(stops)
+    nxt = np.arange(1, len(verts) + 1)
+    nxt[stops - 1] = starts                       # each ring's last vertex is followed by its first
+    xy, vid = _unique_rows(verts)
+    u, v = vid, vid[nxt]
+    keep = u != v
+    u, v = u[keep], v[keep]
+    e = np.stack([u, v], axis=1).astype(np.uint32)
+    if len(xy) < len(verts):                     # rings touch: a constraint may be given twice
+        e = np.unique(np.sort(e, axis=1), axis=0)
+    cdt = pythoncdt.Triangulation(pythoncdt.VertexInsertionOrder.AUTO,
+                                  pythoncdt.IntersectingConstraintEdges.NOT_ALLOWED, 0.0)
+    try:
+        cdt.insert_vertices(np.ascontiguousarray(xy, dtype=np.float64))
+        cdt.insert_edges(np.ascontiguousarray(e))
+        cdt.erase_super_triangle()
+    except Exception:  # noqa: BLE001 - any failure of the library means: use the fallback
+        return None
+    if cdt.vertices_count() != len(xy):          # CDT split an edge (a vertex on another ring's edge)
+        return None
+    arr = cdt.triangles_array()
+    tri = np.asarray(arr["vertices"], dtype=np.int64)
+    nb = np.asarray(arr["neighbors"], dtype=np.int64)
+    inside = _inside_triangles(tri, nb, xy, u, v, domain)
+    return (xy, tri[inside]) if inside is not None else None
+
+
+def _inside_triangles(tri, nb, xy, u, v, domain) -> np.ndarray | None:
+    """Which triangles of a triangulation of the convex hull lie in the domain, or None if that fails.
+
+    ``nb[t, k]`` is the triangle across the edge from ``tri[t, k]`` to ``tri[t, (k + 1) % 3]`` (out of
+    range on the hull), and ``(u, v)`` are the domain's edges. The triangles are grouped into regions
+    across the edges that are not the domain's (connected components of the dual graph with the domain's
+    edges removed); every region lies wholly inside or wholly outside, and one point-in-polygon test a
+    region decides it. (CDT's own depth-parity erasure does the same, several times slower.)
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    nt, nv = len(tri), len(xy)
+    if nt == 0:
+        return None
+    a = np.repeat(np.arange(nt), 3)
+    b = nb.reshape(-1)
+    p = tri.reshape(-1)
+    q = tri[:, _NEXT].reshape(-1)
+    use = (b >= 0) & (b < nt) & (a < b)          # each interior edge once
+    a, b, p, q = a[use], b[use], p[use], q[use]
+    # A domain edge is a constraint: with distinct vertices each has two ring neighbours, else sort keys.
+    deg = np.bincount(np.r_[u, v], minlength=nv)
+    if (deg == 2).all():
+        n1 = np.empty(nv, dtype=np.int64)
+        n2 = np.empty(nv, dtype=np.int64)
+        n1[u] = v
+        n2[v] = u
+        fixed = (n1[p] == q) | (n2[p] == q)
+    else:
+        keys = np.sort(np.minimum(u, v) * nv + np.maximum(u, v))
+        k = np.minimum(p, q) * nv + np.maximum(p, q)
+        at = np.minimum(np.searchsorted(keys, k), len(keys) - 1)
+        fixed = keys[at] == k
+    a, b = a[~fixed], b[~fixed]
+    graph = coo_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(nt, nt))
+    nc, label = connected_components(graph, directed=False)
+    first = np.full(nc, nt, dtype=np.int64)
+    np.minimum.at(first, label, np.arange(nt))
+    c = xy[tri[first]].mean(axis=1)
+    inside = shapely.contains_xy(domain, c[:, 0], c[:, 1])
+    return inside[label]
+
+
 def triangulate(domain: Polygon | MultiPolygon) -> Triangulation:
     """A triangulation of a polygonal domain (no new vertices), with its interior-edge adjacency.
 
-    Earcut's triangulation (with the collinear ring vertices it skips put back), or GEOS's constrained
+    The constrained Delaunay triangulation by CDT [5]_ (pythoncdt; O(n log n) expected, with robust
+    predicates), which conforms to the domain's boundary by construction. Where CDT refuses the domain,
+    earcut's triangulation (with the collinear ring vertices it skips put back), or GEOS's constrained
     Delaunay triangulation where earcut's does not conform to the domain's boundary.
 
     Parameters
@@ -395,6 +503,12 @@ def triangulate(domain: Polygon | MultiPolygon) -> Triangulation:
     Triangulation
         Its vertices are the domain's ring vertices, sorted lexicographically.
 
+    References
+    ----------
+    .. [5] A. Ogre (Artem Amirkhanov), "CDT: constrained Delaunay triangulation", C++ library
+       (github.com/artem-ogre/CDT), after V. Domiter and B. Zalik, "Sweep-line algorithm for constrained
+       Delaunay triangulation", Int. J. Geogr. Inf. Sci. 22 (2008).
+
     Examples
     --------
     >>> from shapely.geometry import box
@@ -402,6 +516,13 @@ def triangulate(domain: Polygon | MultiPolygon) -> Triangulation:
     >>> len(T.tri), len(T.edge_vertices)
     (8, 8)
     """
+    mesh = _cdt_mesh(domain)
+    if mesh is not None:
+        xy, tri = mesh
+        used = np.zeros(len(xy), dtype=bool)
+        used[tri.reshape(-1)] = True
+        if len(tri) and used.all():              # every ring vertex is a corner of a triangle
+            return _build_indexed(xy, tri, distinct=True)[0]
     try:
         verts, idx, ends = _earcut_mesh(domain)
     except ImportError:  # pragma: no cover - the dependency is declared
@@ -436,6 +557,8 @@ class _WalkData:
     cx: np.ndarray          # (3, nt) corner x of each triangle
     cy: np.ndarray          # (3, nt) corner y
     rule3: np.ndarray       # (3, nt) rule, slot by slot
+    flip: np.ndarray        # (nt, 3) bool: the slot runs from the higher vertex id to the lower
+    flip3: np.ndarray       # (3, nt) flip, slot by slot
     bbox: np.ndarray | None = None     # (4, nt): xmin, xmax, ymin, ymax, for exact point location
     guess: tuple | None = None         # boundary edges in Z-order, for `_boundary_guess`
 
@@ -451,12 +574,14 @@ def _walk_data(T: Triangulation) -> _WalkData:
             nb = np.maximum(nbr, 0)
             entry = np.where(nbr >= 0, np.argmax(sedge[nb] == sedge[:, :, None], axis=2), -1)
         rule = (tri < tri[:, _NEXT]) | (nbr < 0)
+        flip = tri > tri[:, _NEXT]
         T._walk = _WalkData(X=np.ascontiguousarray(T.xy[:, 0]), Y=np.ascontiguousarray(T.xy[:, 1]), tri=tri,
                             nbr=nbr, sedge=sedge, entry=np.asarray(entry, dtype=np.int64), rule=rule,
                             ev0=np.asarray(T.edge_vertices[:, 0], dtype=np.int64),
                             cx=np.ascontiguousarray(T.xy[:, 0][tri.T]),
                             cy=np.ascontiguousarray(T.xy[:, 1][tri.T]),
-                            rule3=np.ascontiguousarray(rule.T))
+                            rule3=np.ascontiguousarray(rule.T), flip=flip,
+                            flip3=np.ascontiguousarray(flip.T))
     return T._walk
 
 
@@ -464,8 +589,20 @@ def _inside(W: _WalkData, cand: np.ndarray, p) -> np.ndarray:
     """Which candidate triangles hold p, by the on-edge convention of `_locate`."""
     V = W.tri[cand]
     q = np.stack([W.X[V], W.Y[V]], axis=-1)
-    o = np.stack([_orient(q[:, k], q[:, (k + 1) % 3], np.asarray(p)[None, :]) for k in range(3)], axis=1)
+    o = np.stack([_edge_orient(q[:, k], q[:, (k + 1) % 3], np.asarray(p)[None, :], W.flip[cand, k])
+                  for k in range(3)], axis=1)
     return ((o > 0) | ((o == 0) & W.rule[cand])).all(axis=1)
+
+
+def _edge_orient(a, b, p, flip) -> np.ndarray:
+    """`_orient` (a, b, p) evaluated from the edge's lower vertex id (``flip``: b is that one), negated.
+
+    Floating-point orientation is not exactly antisymmetric: ``orient(a, b, p)`` and ``−orient(b, a, p)``
+    may differ in their last bits, so a point on an edge shared by two triangles could be claimed by
+    neither. Evaluating every edge in one direction makes the two triangles' tests exact negatives.
+    """
+    o = np.where(flip, -_orient(b, a, p), _orient(a, b, p))
+    return o
 
 
 def _locate(T: Triangulation, p) -> int:
@@ -615,7 +752,12 @@ def _lockstep(W: _WalkData, start: np.ndarray, first: np.ndarray, stop: np.ndarr
         # edge straddles the line p→q, and it is not the slot the walker came in through.
         vx1 = vx[_NEXT]
         vy1 = vy[_NEXT]
-        oq = (vx1 - vx) * (aqy - vy) - (vy1 - vy) * (aqx - vx)
+        # Evaluated from each edge's lower vertex id (see `_edge_orient`).
+        fl = W.flip3[:, ct]
+        ax, ay = np.where(fl, vx1, vx), np.where(fl, vy1, vy)
+        bx, by = np.where(fl, vx, vx1), np.where(fl, vy, vy1)
+        oq = (bx - ax) * (aqy - ay) - (by - ay) * (aqx - ax)
+        oq = np.where(fl, -oq, oq)
         stay = (oq > 0) | ((oq == 0) & W.rule3[:, ct])
         cand = ~stay & (sp != sp[_NEXT]) & (slot != ce)
         moves = cand[0] | cand[1] | cand[2]
@@ -685,6 +827,7 @@ def _walk_py(W: _WalkData, t: int, entry: int, steps: int, i: int, stop: int, px
             vx = W.X[tv].tolist()
             vy = W.Y[tv].tolist()
             rule = W.rule[t].tolist()
+            flip = W.flip[t].tolist()
             exit_k = -1
             for k in range(3):
                 if k == entry:
@@ -692,7 +835,11 @@ def _walk_py(W: _WalkData, t: int, entry: int, steps: int, i: int, stop: int, px
                 k1 = (k + 1) % 3
                 # q right of the edge (outside the triangle) and the edge straddles p→q. On the edge
                 # itself, q belongs to the triangle on the left of (u, v) with u < v.
-                oq = (vx[k1] - vx[k]) * (q_y - vy[k]) - (vy[k1] - vy[k]) * (q_x - vx[k])
+                # (Evaluated from the edge's lower vertex id, see `_edge_orient`.)
+                if flip[k]:
+                    oq = -((vx[k] - vx[k1]) * (q_y - vy[k1]) - (vy[k] - vy[k1]) * (q_x - vx[k1]))
+                else:
+                    oq = (vx[k1] - vx[k]) * (q_y - vy[k]) - (vy[k1] - vy[k]) * (q_x - vx[k])
                 if oq > 0 or (oq == 0 and rule[k]):
                     continue
                 o1 = (q_x - p_x) * (vy[k] - p_y) - (q_y - p_y) * (vx[k] - p_x)

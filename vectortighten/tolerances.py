@@ -8,6 +8,7 @@ __all__ = [
     "ANGLE_ZERO",
     "CENTER_SEARCH_R",
     "DEFAULT_TOLERANCE_R",
+    "DOMAIN_CHORD_R",
     "EXACT_CHORD_R",
     "MAX_QUAD_SEGS",
     "PENETRATION_R",
@@ -52,3 +53,10 @@ THICKEN_R = 2e-4
 #: Half-width of the band, as a fraction of r (on top of the chord error), in which the boundary features
 #: that define an arc centre are looked for around a vertex of a buffered polygon.
 CENTER_SEARCH_R = 1e-4
+
+#: Chord error, as a fraction of r, of the core and fillet from which the free space (the mortar thickened
+#: by `THICKEN_R`) is built. They only guide the search for each loop's homotopy class, and every contact
+#: is then decided by the exact centres; the chords must stay well inside the thickening (here half of it)
+#: so that the free space still holds the exact mortar. The free space's size, and so the cost of
+#: triangulating it and of the sleeves and funnels on it, grows as the inverse square root of this.
+DOMAIN_CHORD_R = 0.5 * THICKEN_R
