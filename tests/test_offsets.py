@@ -1,0 +1,125 @@
+"""The exact offsets (`vectortighten.offsets`): hand-derived shrinks, the closed rule, and GEOS agreement."""
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+from scipy.spatial import cKDTree
+from shapely import affinity
+from shapely.geometry import Point, Polygon, box
+
+from vectortighten._validation import check_shape
+from vectortighten.offsets import exact_offsets
+
+
+def corners(S, r, side=1):
+    return sorted(map(tuple, exact_offsets(check_shape(S), r, side).corners.round(9).tolist()))
+
+
+def test_box_corners_are_the_inset_rectangle():
+    assert corners(box(0, 0, 4, 3), 1.0) == [(1.0, 1.0), (1.0, 2.0), (3.0, 1.0), (3.0, 2.0)]
+
+
+def test_box_has_no_anticore_corners_and_arcs_about_its_vertices():
+    E = exact_offsets(check_shape(box(0, 0, 4, 3)), 1.0, -1)
+    assert len(E.corners) == 0
+    assert len(E.arc_sweep) == 4
+    assert np.allclose(np.abs(E.arc_sweep), math.pi / 2)
+    assert len(E.seg) == 4
+
+
+def test_l_shape_reflex_vertex_gives_an_arc_of_the_shrink():
+    L = Polygon([(0, 0), (4, 0), (4, 1.5), (1.5, 1.5), (1.5, 4), (0, 4)])   # reflex vertex at (1.5, 1.5)
+    E = exact_offsets(check_shape(L), 0.5)
+    assert len(E.arc_sweep) == 1
+    assert np.allclose(E.arc_center, [[1.5, 1.5]])
+    assert math.isclose(abs(E.arc_sweep[0]), math.pi / 2)
+    # convex corners of the shrink: the inset corners of the arms
+    assert set(corners(L, 0.5)) == {(0.5, 0.5), (3.5, 0.5), (3.5, 1.0), (0.5, 3.5), (1.0, 3.5)}
+
+
+@pytest.mark.parametrize("angle", [0.0, 30.0, 73.1])
+@pytest.mark.parametrize("origin", [(0.0, 0.0), (1e5, -3e5)])
+def test_bar_exactly_2r_wide_keeps_its_centre_line(angle, origin):
+    r = 0.75
+    bar = affinity.translate(affinity.rotate(box(0, 0, 10, 2 * r), angle, origin=(0, 0)), *origin)
+    E = exact_offsets(check_shape(bar), r)
+    assert len(E.corners) == 2
+    ends = np.array([[r, r], [10 - r, r]])
+    c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+    ends = ends @ np.array([[c, s], [-s, c]]) + origin
+    d, _ = cKDTree(E.corners).query(ends)
+    assert d.max() < 1e-9 * r
+    assert len(E.seg) >= 1 and all(math.isclose(np.hypot(*(q - p)), 10 - 2 * r, rel_tol=1e-9) for p, q in E.seg)
+
+
+@pytest.mark.parametrize("eps, kept", [(1e-9, True), (-1e-9, False), (1e-3, True), (-1e-3, False)])
+def test_bar_near_2r_is_decided_by_its_width(eps, kept):
+    r = 1.0
+    E = exact_offsets(check_shape(affinity.rotate(box(0, 0, 10, 2 * r * (1 + eps)), 21.0)), r)
+    assert (len(E.corners) > 0) == kept
+
+
+def test_square_of_side_2r_has_its_centre_as_the_shrink():
+    assert corners(box(0, 0, 2, 2), 1.0) == [(1.0, 1.0)]
+    assert corners(box(0, 0, 2, 2), 1.0 + 1e-9) == []
+
+
+def test_gap_exactly_2r_keeps_the_anticore_centre_line():
+    r = 0.5
+    two = box(0, 0, 4, 4).union(box(4 + 2 * r, 0, 9, 4))
+    E = exact_offsets(check_shape(two), r, -1)
+    mid = 4 + r
+    on_line = E.seg[np.all(np.abs(E.seg[:, :, 0] - mid) < 1e-12, axis=1)]
+    assert len(on_line) >= 1
+    ys = np.sort(on_line[:, :, 1].ravel())
+    assert ys[0] <= 1e-12 and ys[-1] >= 4 - 1e-12
+
+
+def _stars(seed, n):
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        k = int(rng.integers(5, 40))
+        th = np.sort(rng.uniform(0, 2 * np.pi, k))
+        rad = 1 + 0.5 * rng.uniform(-1, 1, k)
+        S = Polygon(np.column_stack([rad * np.cos(th), rad * np.sin(th)])).buffer(0)
+        if rng.random() < 0.5:
+            S = S.difference(Point(0, 0).buffer(0.2, quad_segs=3))
+        yield check_shape(S), float(rng.uniform(0.02, 0.3))
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_pieces_lie_on_geos_buffers_and_corners_match_them(seed):
+    """Away from GEOS's simplification (random stars with long edges) the two agree to GEOS's chords."""
+    for S, r in _stars(seed, 15):
+        for side in (1, -1):
+            E = exact_offsets(S, r, side)
+            G = S.buffer(-side * r, quad_segs=128)
+            pts = np.concatenate(E.polylines(math.pi / 200)) if len(E.seg) + len(E.arc_sweep) else np.zeros((0, 2))
+            # every kept piece is at clearance exactly r, on its side of S
+            if len(pts):
+                cl = shapely.distance(shapely.points(pts), S.boundary)
+                assert np.abs(cl - r).max() < 1e-9 * r
+                assert (shapely.contains_xy(S, pts[:, 0], pts[:, 1]) == (side > 0)).all()
+            if G.is_empty:
+                continue
+            gv = shapely.get_coordinates(G.boundary)
+            gv = gv[shapely.distance(shapely.points(gv), S.boundary) > r * (1 - 1e-6)]
+            if len(gv):
+                lines = shapely.multilinestrings([shapely.linestrings(p) for p in E.polylines(math.pi / 500)])
+                assert shapely.distance(shapely.points(gv), lines).max() < 1e-4 * r
+
+
+def test_many_small_edges_give_the_same_corners_as_the_all_pairs_cut():
+    rng = np.random.default_rng(3)
+    th = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    rad = 1 + 0.05 * np.sin(7 * th) + 0.01 * rng.standard_normal(len(th))
+    S = check_shape(Polygon(np.column_stack([rad * np.cos(th), rad * np.sin(th)])).buffer(0))
+    for r in (0.01, 0.1):
+        for side in (1, -1):
+            A = exact_offsets(S, r, side)
+            B = exact_offsets(S, r, side, _brute=True)
+            assert len(A.corners) == len(B.corners)
+            if len(A.corners):
+                assert cKDTree(B.corners).query(A.corners)[0].max() < 1e-12
