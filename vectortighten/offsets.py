@@ -221,6 +221,7 @@ class _Elements:
         self.length = np.concatenate([np.hypot(*(seg[:, 1] - seg[:, 0]).T), r * np.abs(arc_sw)])
         self.tiny = np.where(self.length > 0, self.eps / np.maximum(self.length, 1e-300), 1.0)
         self.tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1))) if len(a) else None
+        self._kd = None
         # The edges that cannot cut an element: a segment's own edge, an arc's two edges.
         self.own = np.concatenate([np.stack([np.arange(len(a)), np.arange(len(a))], axis=1),
                                    np.stack([ai, nxt[ai]], axis=1)]) if len(a) else np.zeros((0, 2), np.int64)
@@ -249,9 +250,38 @@ class _Elements:
         return shapely.linestrings(xy), float(self.r * (1.0 - np.cos(0.5 * step)).max(initial=0.0))
 
     def clearance(self, xy):
-        """Distance of each point to S's boundary, and the nearest edge."""
-        (_, e), d = self.tree.query_nearest(shapely.points(xy), return_distance=True, all_matches=False)
+        """Distance of each point to S's boundary, and the nearest edge.
+
+        The edge whose middle is nearest gives an upper bound; where it is nearer than r − precision the
+        point is in that edge's capsule, and that is all the rounds need to know (the clearance returned
+        there is that bound). Elsewhere the R-tree finds the nearest edge exactly.
+        """
+        if self._kd is None:
+            self._kd = cKDTree(0.5 * (self.a + self.b))
+        d = np.empty(len(xy))
+        e = np.empty(len(xy), dtype=np.int64)
+        if len(xy) == 0:
+            return d, e
+        _, j = self._kd.query(xy)
+        dj = self._edge_distance(xy, j)
+        deep = dj < self.r - self.eps
+        d[deep], e[deep] = dj[deep], j[deep]
+        rest = np.flatnonzero(~deep)
+        if len(rest):
+            (_, er), dr = self.tree.query_nearest(shapely.points(xy[rest]), return_distance=True,
+                                                  all_matches=False)
+            d[rest], e[rest] = dr, er
         return d, e
+
+    def _edge_distance(self, xy, j):
+        p, q = self.a[j], self.b[j]
+        v = q - p
+        L2 = (v * v).sum(axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u = np.clip(((xy - p) * v).sum(axis=1) / L2, 0.0, 1.0)
+        u = np.where(L2 > 0, u, 0.0)
+        f = p + u[:, None] * v
+        return np.hypot(xy[:, 0] - f[:, 0], xy[:, 1] - f[:, 1])
 
     def kept(self, xy) -> np.ndarray:
         """The closed rule at points: on the side's side of S and clearance ≥ r − precision."""
