@@ -283,14 +283,14 @@ class OffsetPieces:
         return len(self.kind)
 
     def contains_xy(self, xy: np.ndarray) -> np.ndarray:
-        """Whether points ``(n, 2)`` lie in K (closed, to the tie precision)."""
+        """Whether points ``(n, 2)`` lie in K (closed, to the tie precision: clearance ≥ r − 2·delta)."""
         xy = np.asarray(xy, dtype=float).reshape(-1, 2)
         if len(xy) == 0:
             return np.zeros(0, dtype=bool)
         inS = shapely.contains_xy(self.S, xy[:, 0], xy[:, 1])
         pts = shapely.points(xy)
         _, dist = self.edge_tree.query_nearest(pts, return_distance=True, all_matches=False)
-        return (inS != self.complement) & (dist >= self.r - self.delta)
+        return (inS != self.complement) & (dist >= self.r - 2 * self.delta)
 
 
 def _tie_delta(S, r: float) -> float:
