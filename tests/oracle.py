@@ -42,7 +42,7 @@ from shapely.geometry import MultiPolygon, Polygon
 
 __all__ = ["TIE_REL", "Judgement", "OffsetPieces", "judge", "loop_arrays", "penetration", "shrink_pieces"]
 
-TIE_REL = 1e-13
+TIE_REL = 1e-14
 """Relative precision of the tie "width exactly 2r": the capsules are open by ``TIE_REL·M``."""
 
 _TWO_PI = 2.0 * math.pi

@@ -59,8 +59,8 @@ def test_square_shrink_and_anticore_centres_are_hand_derived():
 
 def test_square_penetration_is_exact():
     K = o.shrink_pieces(box(0, 0, 4, 4), 1.0)
-    # K's pieces reach ``delta`` (the tie precision, 5e-13 here) into the capsules: depths are to ±delta
-    assert K.delta == pytest.approx(5e-13)
+    # K's pieces reach ``delta`` (the tie precision, 5e-14 here) into the capsules: depths are to ±delta
+    assert K.delta == pytest.approx(5e-14)
     assert _pen(Segment((0, 0), (4, 0)), K) == pytest.approx(0.0, abs=2 * K.delta)   # ∂S: distance r
     assert _pen(Segment((0, 0.5), (4, 0.5)), K) == pytest.approx(0.5, abs=2 * K.delta)
     assert _pen(Segment((-1, 0.25), (0.5, 0.25)), K) == pytest.approx(1 - math.hypot(0.5, 0.75), abs=2 * K.delta)

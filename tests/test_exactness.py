@@ -1,0 +1,78 @@
+"""Issues 24, 25, 26: every tightening, judged by the independent exact oracle (tests/oracle.py).
+
+For each case of `tests.exactness_cases` and both inits, with default settings:
+
+* the loops enter the open core and the open anticore by at most 1e-9·r, and T holds every component
+  of the shrink and none of the anticore's centres (``R ⊆ T ⊆ F`` exactly);
+* ``verify()`` is non-empty exactly when the oracle finds an entry above 1e-9·r;
+* the exact decision of the case holds (gap open or closed, neck kept or cut, 2r bar kept, thin bar gone).
+
+Cases the engine gets wrong today are marked ``xfail(strict=False)`` with the penetration measured on
+this branch (``python benchmarks/exactness.py --ci`` prints them); the engine's owner removes a mark
+when its case passes.
+"""
+
+from functools import cache
+
+import pytest
+
+from tests import exactness_cases as ec
+
+REL = 1e-9
+CASES = ec.cases("ci")
+INITS = ("core", "input")
+
+# Measured on this branch (see the module docstring); keys are "case id|init".
+KNOWN = {}
+
+
+@cache
+def _run(case_id: str, init: str):
+    case = next(c for c in CASES if c.id == case_id)
+    return case, ec.evaluate(case, init)
+
+
+def _params(check):
+    out = []
+    for c in CASES:
+        for init in INITS:
+            key = f"{c.id}|{init}"
+            marks = []
+            reason = KNOWN.get(key, {}).get(check)
+            if reason:
+                marks.append(pytest.mark.xfail(strict=False, reason=reason))
+            if c.kind in ("admin", "contour", "embedded gap", "embedded neck"):
+                marks.append(pytest.mark.slow)
+            out.append(pytest.param(c.id, init, id=key, marks=marks))
+    return out
+
+
+def _result(case_id, init):
+    case, (T, J, problems, _) = _run(case_id, init)
+    if T is None:
+        pytest.fail(f"tighten raised {type(J).__name__}: {J}")
+    return case, T, J, problems
+
+
+@pytest.mark.parametrize("case_id, init", _params("exact"))
+def test_no_entry_into_the_open_core_or_anticore(case_id, init):
+    case, T, J, _ = _result(case_id, init)
+    assert J.core_penetration <= REL * case.r, f"enters the core by {J.core_penetration / case.r:.3g}·r"
+    assert J.anticore_penetration <= REL * case.r, \
+        f"enters the anticore by {J.anticore_penetration / case.r:.3g}·r"
+    assert J.core_missing == 0, f"{J.core_missing} pieces of the shrink lie outside T"
+    assert J.anticore_covered == 0, f"{J.anticore_covered} pieces of the anticore's centres lie in T"
+
+
+@pytest.mark.parametrize("case_id, init", _params("verify"))
+def test_verify_is_clean_exactly_when_the_oracle_is(case_id, init):
+    case, T, J, problems = _result(case_id, init)
+    entering = J.worst > REL
+    assert bool(problems) == entering, (f"oracle worst {J.worst:.3g}·r, verify() says "
+                                        f"{problems[:2] if problems else 'nothing'}")
+
+
+@pytest.mark.parametrize("case_id, init", _params("decision"))
+def test_exact_decision(case_id, init):
+    case, T, J, _ = _result(case_id, init)
+    assert ec.decision_errors(case, init, T) == []
