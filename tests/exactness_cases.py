@@ -55,6 +55,15 @@ def _rot(p, angle, offset):
     return (c * p[0] - s * p[1] + offset[0], s * p[0] + c * p[1] + offset[1])
 
 
+def _resolvable(eps: float, r: float, off) -> bool:
+    """Whether a width 2r(1 + eps) differs from 2r by more than ten times the oracle's tie precision
+    (``TIE_REL·M``, M the coordinates' magnitude): finer differences are ties to rounding."""
+    from tests.oracle import TIE_REL
+
+    M = max(abs(off[0]), abs(off[1])) + 20 * r
+    return eps == 0 or 2 * abs(eps) * r > 10 * TIE_REL * M
+
+
 def _tie_cases() -> list[Case]:
     out = []
     placements = [(0.0, (0.0, 0.0)), (30.0, (1234.5, -678.25)), (61.0, (-3.0e4, 2.0e4))]
@@ -62,6 +71,8 @@ def _tie_cases() -> list[Case]:
         tag = f"a{angle:g}@{off[0]:g},{off[1]:g}"
         for eps in (0.0, 1e-9, -1e-9, 1e-3, -1e-3):
             r = 3.0
+            if not _resolvable(eps, r, off):
+                continue
             mk = (lambda r=r, eps=eps, angle=angle, off=off: sd.bar(r, eps, angle, off))
             centre = _rot((0.0, 0.0), angle, off)
             if eps >= 0:
@@ -70,6 +81,8 @@ def _tie_cases() -> list[Case]:
                 out.append(Case(f"bar 2r(1{eps:+g}) {tag}", mk, r, empty=True, kind="bar"))
         for eps in (1e-10, 1e-6, 1e-2, 0.0, -1e-10, -1e-6, -1e-2):
             r = 1.0
+            if not _resolvable(eps, r, off):
+                continue
             mk = (lambda r=r, eps=eps, angle=angle, off=off: sd.gap_pair(r, eps, angle, off))
             centre = _rot((0.0, 0.0), angle, off)
             if eps >= 0:            # an r-disk passes (exactly, for eps = 0: the closed shrink of ¬S)
@@ -84,6 +97,8 @@ def _tie_cases() -> list[Case]:
                                 kind="neck"))
         for eps in (1e-10, 1e-3, -1e-10, -1e-3):
             r = 1.0
+            if not _resolvable(eps, r, off):
+                continue
             mk = (lambda r=r, eps=eps, angle=angle, off=off: sd.slot(r, eps, angle, off))
             deep = _rot((0.0, 2.0), angle, off)        # in the slot, 2r below the mouth
             if eps > 0:
@@ -123,17 +138,17 @@ def _embedded_centre(eps, what):
 def _dense_cases(scale: str) -> list[Case]:
     out = []
     n = 4000 if scale == "ci" else 75_000
-    for seed in (0, 1):
+    for seed in ((0,) if scale == "ci" else (0, 1)):
         mk = (lambda seed=seed: sd.admin_outline(n, seed=seed))
         for frac in ((0.003, 0.03) if scale == "ci" else (0.001, 0.003, 0.01, 0.03, 0.1)):
             out.append(Case(f"admin {n} seed {seed} r={frac:g}·size", mk, frac * 2e5, kind="admin"))
     size = 160 if scale == "ci" else 600
-    for seed in (0, 1):
+    for seed in ((0, 1) if scale == "ci" else (0,)):
         mk = (lambda seed=seed: sd.traced_contour(size, seed=seed))
         for r in ((2.0, 6.5) if scale == "ci" else (1.0, 2.0, 4.0, 8.6, 16.0)):
             out.append(Case(f"contour {size}px seed {seed} r={r:g}", mk, r, kind="contour"))
     size = 60 if scale == "ci" else 200
-    for seed in (0, 1, 2):
+    for seed in ((0, 1, 2) if scale == "ci" else (0, 1)):
         mk = (lambda seed=seed: sd.pixel_blob(size, seed=seed))
         for r in ((3.0, 8.0) if scale == "ci" else (1.0, 2.0, 3.0, 5.0, 8.0)):
             out.append(Case(f"pixel blob {size}px seed {seed} r={r:g}", mk, r, kind="pixel"))
