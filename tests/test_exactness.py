@@ -1,0 +1,231 @@
+"""Issues 24, 25, 26: every tightening, judged by the independent exact oracle (tests/oracle.py).
+
+For each case of `tests.exactness_cases` and both inits, with default settings:
+
+* the loops enter the open core and the open anticore by at most 1e-9·r, and T holds every component
+  of the shrink and none of the anticore's centres (``R ⊆ T ⊆ F`` exactly);
+* ``verify()`` is non-empty exactly when the oracle finds an entry above 1e-9·r;
+* the exact decision of the case holds (gap open or closed, neck kept or cut, 2r bar kept, thin bar gone).
+
+Cases the engine gets wrong today are marked ``xfail(strict=False)`` with the penetration measured on
+this branch (``python benchmarks/exactness.py --ci`` prints them); the engine's owner removes a mark
+when its case passes.
+"""
+
+from functools import cache
+
+import pytest
+
+from tests import exactness_cases as ec
+
+REL = 1e-9
+CASES = ec.cases("ci")
+INITS = ("core", "input")
+
+# Measured on this branch (see the module docstring); keys are "case id|init".
+KNOWN = {
+    'bar 2r(1+0) a30@1234.5,-678.25|core': {   'verify': 'verify() reports a problem (corner/other) '
+                                                         'though the oracle finds it exact (core '
+                                                         '4.2e-12·r, anticore 0·r)'},
+    'bar 2r(1+0) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem (corner/other) '
+                                                          'though the oracle finds it exact (core '
+                                                          '4.2e-12·r, anticore 0·r)'},
+    'bar 2r(1+0) a61@-30000,20000|core': {   'verify': 'verify() reports a problem (corner/other) '
+                                                       'though the oracle finds it exact (core 1e-10·r, '
+                                                       'anticore 3.1e-13·r)'},
+    'bar 2r(1+0) a61@-30000,20000|input': {   'verify': 'verify() reports a problem (corner/other) '
+                                                        'though the oracle finds it exact (core '
+                                                        '1e-10·r, anticore 3.1e-13·r)'},
+    'bar 2r(1+1e-09) a30@1234.5,-678.25|core': {   'verify': 'verify() reports a problem (corner/other) '
+                                                             'though the oracle finds it exact (core '
+                                                             '4.2e-12·r, anticore 1.6e-14·r)'},
+    'bar 2r(1+1e-09) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem '
+                                                              '(corner/other) though the oracle finds '
+                                                              'it exact (core 4.2e-12·r, anticore '
+                                                              '1.6e-14·r)'},
+    'bar 2r(1+1e-09) a61@-30000,20000|core': {   'verify': 'verify() reports a problem (corner/other) '
+                                                           'though the oracle finds it exact (core '
+                                                           '1e-10·r, anticore 1.2e-12·r)'},
+    'bar 2r(1+1e-09) a61@-30000,20000|input': {   'verify': 'verify() reports a problem (corner/other) '
+                                                            'though the oracle finds it exact (core '
+                                                            '1e-10·r, anticore 1.2e-12·r)'},
+    'embedded neck 2r(1+1e-08)|core': {   'verify': 'verify() reports a problem (corner/other) though '
+                                                    'the oracle finds it exact (core 6.9e-10·r, '
+                                                    'anticore 1.1e-10·r)'},
+    'embedded neck 2r(1+1e-08)|input': {   'verify': 'verify() reports a problem (corner/other) though '
+                                                     'the oracle finds it exact (core 6.9e-10·r, '
+                                                     'anticore 1.1e-10·r)'},
+    'embedded neck 2r(1-0.0001)|core': {   'exact': 'issue 25: enters by core 3.7e-09·r, anticore '
+                                                    '1.1e-10·r',
+                                           'verify': 'issue 25: verify() silent while the oracle '
+                                                     'measures core 3.7e-09·r, anticore 1.1e-10·r'},
+    'embedded neck 2r(1-1e-08)|core': {   'exact': 'issue 25: enters by core 3.7e-07·r, anticore '
+                                                   '1.1e-10·r',
+                                          'verify': 'issue 25: verify() silent while the oracle '
+                                                    'measures core 3.7e-07·r, anticore 1.1e-10·r'},
+    'embedded neck 2r(1-1e-08)|input': {   'verify': 'verify() reports a problem (corner/other) though '
+                                                     'the oracle finds it exact (core 1.1e-10·r, '
+                                                     'anticore 1.1e-10·r)'},
+    'neck 2r(1+0) a0@0,0|core': {   'verify': 'verify() reports a problem (corner/other) though the '
+                                              'oracle finds it exact (core 8.6e-14·r, anticore '
+                                              '8.5e-14·r)'},
+    'neck 2r(1+0) a0@0,0|input': {   'verify': 'verify() reports a problem (corner/other) though the '
+                                               'oracle finds it exact (core 8.6e-14·r, anticore '
+                                               '8.5e-14·r)'},
+    'neck 2r(1+0) a30@1234.5,-678.25|core': {   'verify': 'verify() reports a problem (corner/other) '
+                                                          'though the oracle finds it exact (core '
+                                                          '1.3e-11·r, anticore 1.3e-11·r)'},
+    'neck 2r(1+0) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem (corner/other) '
+                                                           'though the oracle finds it exact (core '
+                                                           '1.3e-11·r, anticore 1.3e-11·r)'},
+    'neck 2r(1+0) a61@-30000,20000|core': {   'verify': 'verify() reports a problem (corner/other) '
+                                                        'though the oracle finds it exact (core '
+                                                        '3e-10·r, anticore 3e-10·r)'},
+    'neck 2r(1+0) a61@-30000,20000|input': {   'verify': 'verify() reports a problem (corner/other) '
+                                                         'though the oracle finds it exact (core '
+                                                         '3e-10·r, anticore 3e-10·r)'},
+    'neck 2r(1+1e-06) a30@1234.5,-678.25|core': {   'verify': 'verify() reports a problem '
+                                                              '(corner/other) though the oracle finds '
+                                                              'it exact (core 1.3e-11·r, anticore '
+                                                              '1.3e-11·r)'},
+    'neck 2r(1+1e-06) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem '
+                                                               '(corner/other) though the oracle finds '
+                                                               'it exact (core 1.3e-11·r, anticore '
+                                                               '1.3e-11·r)'},
+    'neck 2r(1+1e-06) a61@-30000,20000|core': {   'verify': 'verify() reports a problem (corner/other) '
+                                                            'though the oracle finds it exact (core '
+                                                            '3e-10·r, anticore 3e-10·r)'},
+    'neck 2r(1+1e-06) a61@-30000,20000|input': {   'verify': 'verify() reports a problem (corner/other) '
+                                                             'though the oracle finds it exact (core '
+                                                             '3e-10·r, anticore 3e-10·r)'},
+    'neck 2r(1+1e-10) a30@1234.5,-678.25|core': {   'verify': 'verify() reports a problem '
+                                                              '(corner/other) though the oracle finds '
+                                                              'it exact (core 1.3e-11·r, anticore '
+                                                              '1.3e-11·r)'},
+    'neck 2r(1+1e-10) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem '
+                                                               '(corner/other) though the oracle finds '
+                                                               'it exact (core 1.3e-11·r, anticore '
+                                                               '1.3e-11·r)'},
+    'neck 2r(1-0.01) a61@-30000,20000|core': {   'exact': 'issue 25: enters by core 1.1e-09·r, anticore '
+                                                          '3e-10·r',
+                                                 'verify': 'issue 25: verify() silent while the oracle '
+                                                           'measures core 1.1e-09·r, anticore 3e-10·r'},
+    'neck 2r(1-1e-06) a30@1234.5,-678.25|core': {   'exact': 'issue 25: enters by core 4.4e-09·r, '
+                                                             'anticore 1.3e-11·r'},
+    'neck 2r(1-1e-06) a61@-30000,20000|core': {   'exact': 'issue 25: enters by core 1.1e-07·r, '
+                                                           'anticore 3e-10·r'},
+    'neck 2r(1-1e-06) a61@-30000,20000|input': {   'verify': 'verify() reports a problem (corner/other) '
+                                                             'though the oracle finds it exact (core '
+                                                             '3e-10·r, anticore 3e-10·r)'},
+    'neck 2r(1-1e-10) a0@0,0|core': {   'decision': 'issue 25: T should not contain (0.0, 0.0)',
+                                        'verify': 'verify() reports a problem (corner/other) though the '
+                                                  'oracle finds it exact (core 8.6e-14·r, anticore '
+                                                  '8.5e-14·r)'},
+    'neck 2r(1-1e-10) a0@0,0|input': {   'verify': 'verify() reports a problem (corner/other) though '
+                                                   'the oracle finds it exact (core 8.6e-14·r, anticore '
+                                                   '8.5e-14·r)'},
+    'neck 2r(1-1e-10) a30@1234.5,-678.25|core': {   'decision': 'issue 25: T should not contain '
+                                                                '(1234.5, -678.25)',
+                                                    'verify': 'verify() reports a problem '
+                                                              '(corner/other) though the oracle finds '
+                                                              'it exact (core 1.3e-11·r, anticore '
+                                                              '1.3e-11·r)'},
+    'neck 2r(1-1e-10) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem '
+                                                               '(corner/other) though the oracle finds '
+                                                               'it exact (core 1.3e-11·r, anticore '
+                                                               '1.3e-11·r)'},
+    'pixel blob 60px seed 0 r=3|core': {   'exact': 'issue 24: enters by core 0.26·r, anticore '
+                                                    '2.3e-13·r',
+                                           'verify': 'issue 24: verify() silent while the oracle '
+                                                     'measures core 0.26·r, anticore 2.3e-13·r'},
+    'pixel blob 60px seed 0 r=3|input': {   'exact': 'issue 24: enters by core 0.26·r, anticore '
+                                                     '2.3e-13·r',
+                                            'verify': 'issue 24: verify() silent while the oracle '
+                                                      'measures core 0.26·r, anticore 2.3e-13·r'},
+    'pixel blob 60px seed 0 r=8|core': {   'exact': 'issue 24: enters by core 0.016·r, anticore 0·r',
+                                           'verify': 'issue 24: verify() silent while the oracle '
+                                                     'measures core 0.016·r, anticore 0·r'},
+    'pixel blob 60px seed 0 r=8|input': {   'exact': 'issue 24: enters by core 0.016·r, anticore 0·r',
+                                            'verify': 'issue 24: verify() silent while the oracle '
+                                                      'measures core 0.016·r, anticore 0·r'},
+    'slot 2r(1+1e-10) a30@1234.5,-678.25|core': {   'verify': 'verify() reports a problem '
+                                                              '(corner/other) though the oracle finds '
+                                                              'it exact (core 1.3e-11·r, anticore '
+                                                              '1.3e-11·r)'},
+    'slot 2r(1+1e-10) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem '
+                                                               '(corner/other) though the oracle finds '
+                                                               'it exact (core 1.3e-11·r, anticore '
+                                                               '1.3e-11·r)'},
+    'slot 2r(1-0.001) a61@-30000,20000|core': {   'exact': 'issue 25: enters by core 3e-10·r, anticore '
+                                                           '3.4e-09·r',
+                                                  'verify': 'issue 25: verify() silent while the oracle '
+                                                            'measures core 3e-10·r, anticore 3.4e-09·r'},
+    'slot 2r(1-0.001) a61@-30000,20000|input': {   'exact': 'issue 25: enters by core 3e-10·r, anticore '
+                                                            '3.4e-09·r',
+                                                   'verify': 'issue 25: verify() silent while the '
+                                                             'oracle measures core 3e-10·r, anticore '
+                                                             '3.4e-09·r'},
+    'staircase stroke 2·3px|core': {   'decision': 'issue 24: T should contain (44.0, 35.0)',
+                                       'exact': 'issue 24: enters by core 1·r, anticore 2.6e-13·r, 2 '
+                                                'shrink pieces outside T',
+                                       'verify': 'issue 24: verify() silent while the oracle measures '
+                                                 'core 1·r, anticore 2.6e-13·r, 2 shrink pieces outside '
+                                                 'T'},
+    'staircase stroke 2·8px|core': {   'decision': 'issue 24: T should contain (84.0, 60.0)',
+                                       'exact': 'issue 24: enters by core 1·r, anticore 2e-13·r, 2 '
+                                                'shrink pieces outside T',
+                                       'verify': 'issue 24: verify() silent while the oracle measures '
+                                                 'core 1·r, anticore 2e-13·r, 2 shrink pieces outside '
+                                                 'T'}}
+
+
+@cache
+def _run(case_id: str, init: str):
+    case = next(c for c in CASES if c.id == case_id)
+    return case, ec.evaluate(case, init)
+
+
+def _params(check):
+    out = []
+    for c in CASES:
+        for init in INITS:
+            key = f"{c.id}|{init}"
+            marks = []
+            reason = KNOWN.get(key, {}).get(check)
+            if reason:
+                marks.append(pytest.mark.xfail(strict=False, reason=reason))
+            if c.kind in ("admin", "contour", "embedded gap", "embedded neck"):
+                marks.append(pytest.mark.slow)
+            out.append(pytest.param(c.id, init, id=key, marks=marks))
+    return out
+
+
+def _result(case_id, init):
+    case, (T, J, problems, _) = _run(case_id, init)
+    if T is None:
+        pytest.fail(f"tighten raised {type(J).__name__}: {J}")
+    return case, T, J, problems
+
+
+@pytest.mark.parametrize("case_id, init", _params("exact"))
+def test_no_entry_into_the_open_core_or_anticore(case_id, init):
+    case, T, J, _ = _result(case_id, init)
+    assert J.core_penetration <= REL * case.r, f"enters the core by {J.core_penetration / case.r:.3g}·r"
+    assert J.anticore_penetration <= REL * case.r, \
+        f"enters the anticore by {J.anticore_penetration / case.r:.3g}·r"
+    assert J.core_missing == 0, f"{J.core_missing} pieces of the shrink lie outside T"
+    assert J.anticore_covered == 0, f"{J.anticore_covered} pieces of the anticore's centres lie in T"
+
+
+@pytest.mark.parametrize("case_id, init", _params("verify"))
+def test_verify_is_clean_exactly_when_the_oracle_is(case_id, init):
+    case, T, J, problems = _result(case_id, init)
+    entering = J.worst > REL
+    assert bool(problems) == entering, (f"oracle worst {J.worst:.3g}·r, verify() says "
+                                        f"{problems[:2] if problems else 'nothing'}")
+
+
+@pytest.mark.parametrize("case_id, init", _params("decision"))
+def test_exact_decision(case_id, init):
+    case, T, J, _ = _result(case_id, init)
+    assert ec.decision_errors(case, init, T) == []
