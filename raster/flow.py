@@ -39,15 +39,17 @@ from scipy import ndimage
 
 from ._checks import check_mask, check_radius
 from .morphology import _core_fillet, mason
+from .mpp import mpp_finish
 
 __all__ = ["NotConvergedWarning", "RasterTightening", "default_levels", "signed_distance", "tighten"]
 
 INITS = ("core", "input", "mason")
+FINISHES = ("mpp", "none")
 _EPS = 1e-12
 #: Steps over which a level's rest is judged (see `tighten`'s ``stop``).
 STOP_WINDOW = 50
 #: The least step cap a level gets when `tighten` runs until rest.
-MIN_CAP = 3000
+MIN_CAP = 2000
 #: Steps of cap per pixel of a level's height + width, when that is more than `MIN_CAP`.
 CAP_PER_PIXEL = 4
 
@@ -85,6 +87,8 @@ class RasterTightening:
     budget : str
         The step budget the flow ran with: ``"until rest"`` (the default), or the paper's 100 steps a
         level, or another fixed number.
+    finish : str
+        The final step applied after the flow (``"mpp"`` or ``"none"``, see `tighten`).
     """
 
     mask: np.ndarray
@@ -98,6 +102,7 @@ class RasterTightening:
     timings: dict = field(default_factory=dict)
     converged: list = field(default_factory=list)
     budget: str = "until rest"
+    finish: str = "none"
 
     @property
     def is_converged(self) -> bool:
@@ -509,7 +514,8 @@ def _keep_topology(flat: np.ndarray, idx: np.ndarray, old: np.ndarray, new: np.n
 
 
 def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
-          keep_topology: bool = False, own_front: bool = True) -> tuple[np.ndarray, int, bool]:
+          keep_topology: bool = False, own_front: bool = True,
+          rest: str = "front") -> tuple[np.ndarray, int, bool]:
     """Run the constrained flow on one level; returns Φ, the number of steps taken and whether the front
     rested (the rest test below passed, or no front was left) before ``iterations`` steps ran out.
 
@@ -528,6 +534,7 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
     stale = own_front
     snapshot, last_flip = None, 0
     rested = iterations == 0 and band.idx.size == 0
+    last_topo, last_topo_flip = None, 0
     for steps in range(1, iterations + 1):
         if band.idx.size == 0:
             steps -= 1
@@ -550,7 +557,20 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
         flips = (old < 0) != (new < 0)
         if flips.any():
             last_flip = steps
-        if steps % STOP_WINDOW == 0:
+            if rest == "topology":
+                fl = idx[flips]
+                if not _SIMPLE[_ring_codes(flat, fl, Wp)].all():
+                    last_topo_flip = steps
+        if steps % STOP_WINDOW == 0 and rest == "topology":
+            # Only the homotopy class is needed (a minimum-perimeter finish follows): the level rests
+            # when its parts and holes stayed the same over a whole window without a pixel changing a
+            # component or a hole.
+            topo = _topology_counts(P[1:-1, 1:-1] < 0)
+            if topo == last_topo and steps - last_topo_flip >= STOP_WINDOW:
+                rested = True
+                break
+            last_topo = topo
+        elif steps % STOP_WINDOW == 0:
             # Rest is judged on the net change over a window: a pixel that swings in place every step (at a
             # constraint's corner, say) moves Φ by a tenth of a pixel a step forever and never rests step
             # by step, while the front it sits on has long stopped.
@@ -575,6 +595,13 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
             else:
                 comp[pos], owner[pos] = owner[pos], comp[pos].copy()
     return P[1:-1, 1:-1].copy(), steps, rested
+
+
+def _topology_counts(inside: np.ndarray) -> tuple[int, int]:
+    """Components (8-connected) and holes (4-connected outside parts not touching the edge) of a set."""
+    _, n = ndimage.label(inside, structure=np.ones((3, 3), bool))
+    lab, m = ndimage.label(np.pad(~inside, 1, constant_values=True))
+    return int(n), int(m) - 1
 
 
 def _reinitialise(base: np.ndarray, inside: np.ndarray, movable: np.ndarray) -> np.ndarray:
@@ -638,7 +665,7 @@ def _step_cap(shape: tuple[int, int]) -> int:
 
 
 def tighten(mask, r, *, init: str = "core", levels: int | None = None, iterations: int | None = None,
-            stop: float = 1e-3, supersample: int = 1) -> RasterTightening:
+            stop: float = 1e-3, supersample: int = 1, finish: str = "mpp") -> RasterTightening:
     """The r-tightening of a binary image by constrained level-set curvature flow (the paper's §3).
 
     Parameters
@@ -670,6 +697,11 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
         that fit an acute corner (a boundary off by δ moves such a disk by δ/sin α in a wedge of
         half-angle α). ``r`` and ``mask`` are in the fine pixels; the result is on the coarse grid
         (``mask.shape // supersample``) and its ``r`` is in coarse pixels.
+    finish : {"mpp", "none"}
+        A final step after the flow: ``"mpp"`` (the default) replaces each boundary loop by the shortest
+        loop homotopic to it in the pixel mortar (`raster.mpp.mpp_finish`, the paper's §4.7), which makes
+        long straight tight segments straight where the flow leaves them bowed; ``"none"`` returns the
+        flow's own result (the paper's method).
 
     Returns
     -------
@@ -696,6 +728,8 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
     r = check_radius(r)
     if init not in INITS:
         raise ValueError(f"init must be one of {', '.join(INITS)}, got {init!r}")
+    if finish not in FINISHES:
+        raise ValueError(f"finish must be one of {', '.join(FINISHES)}, got {finish!r}")
     ss = _check_supersample(supersample, M.shape)
     if levels is None:
         levels = default_levels(r / ss)
@@ -752,12 +786,17 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
             inside = _homotopic(base < 0, target, mov_k)
             phi_k = _reinitialise(base, inside, mov_k)
         cap = _step_cap(mov_k.shape) if iterations is None else int(iterations)
-        phi, n, rested = _flow(phi_k, mov_k, cap, stop, keep_topology=k > 0)
+        phi, n, rested = _flow(phi_k, mov_k, cap, stop, keep_topology=k > 0,
+                               rest="topology" if finish == "mpp" else "front")
         counts.append(n)
         converged.append(rested)
         timings[f"flow level {k}"] = time.perf_counter() - t0
     out = (phi < 0) | R
     out &= F
+    if finish == "mpp":
+        t0 = time.perf_counter()
+        out = mpp_finish(out, R, F)
+        timings["finish"] = time.perf_counter() - t0
     timings["total"] = time.perf_counter() - t_start
     budget = "until rest" if iterations is None else (
         "the paper's 100 steps a level" if iterations == 100 else f"{int(iterations)} steps a level")
@@ -767,4 +806,5 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
                       f"{', '.join(map(str, late))} (0 = full resolution); the result is not converged",
                       NotConvergedWarning, stacklevel=2)
     return RasterTightening(mask=out, phi=phi, core=R, fillet=F, r=r, init=init, levels=levels,
-                            iterations=counts, timings=timings, converged=converged, budget=budget)
+                            iterations=counts, timings=timings, converged=converged, budget=budget,
+                            finish=finish)
