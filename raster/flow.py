@@ -561,7 +561,7 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
                 fl = idx[flips]
                 if not _SIMPLE[_ring_codes(flat, fl, Wp)].all():
                     last_topo_flip = steps
-        if steps % STOP_WINDOW == 0 and rest == "topology":
+        if steps % STOP_WINDOW == 0 and rest == "topology" and stop > 0:
             # Only the homotopy class is needed (a minimum-perimeter finish follows): the level rests
             # when its parts and holes stayed the same over a whole window without a pixel changing a
             # component or a hole.

@@ -18,14 +18,13 @@ from __future__ import annotations
 
 import numpy as np
 import shapely
+from scipy import ndimage
 from shapely.geometry import Polygon
 
 __all__ = ["mpp_finish"]
 
 #: How far the mortar is thickened where core and fillet touch, pixels (room for the curve there).
 _THICKEN = 1e-6
-#: Rounds of wrap-and-merge: loops that meet after wrapping are merged and wrapped again.
-_ROUNDS = 4
 
 
 def _squares(mask: np.ndarray):
@@ -40,6 +39,25 @@ def _squares(mask: np.ndarray):
     _, ej = np.nonzero(d == -1)
     boxes = shapely.box(sj, -si - 1, ej, -si)
     return shapely.union_all(boxes).simplify(0)
+
+
+def _part_mask(part, shape) -> np.ndarray:
+    """The pixels whose centre lies in a polygon of `_squares`' coordinates."""
+    out = np.zeros(shape, dtype=bool)
+    x0, y0, x1, y1 = part.bounds
+    i0, i1 = max(int(-y1), 0), min(int(np.ceil(-y0)), shape[0])
+    j0, j1 = max(int(x0), 0), min(int(np.ceil(x1)), shape[1])
+    jj, ii = np.meshgrid(np.arange(j0, j1), np.arange(i0, i1))
+    shapely.prepare(part)
+    out[i0:i1, j0:j1] = shapely.contains_xy(part, jj + 0.5, -ii - 0.5)
+    return out
+
+
+def _topology(inside: np.ndarray) -> tuple[int, int]:
+    """Components (8-connected) and holes (4-connected) of a pixel set."""
+    _, n = ndimage.label(inside, structure=np.ones((3, 3), bool))
+    _, m = ndimage.label(np.pad(~inside, 1, constant_values=True))
+    return int(n), int(m) - 1
 
 
 def _rings(geom) -> list[tuple[int, np.ndarray, bool]]:
@@ -64,8 +82,7 @@ def mpp_finish(mask, core, fillet) -> np.ndarray:
     Returns
     -------
     (H, W) ndarray of bool
-        The pixels whose centre lies inside the shortest loops (loops that meet are merged and wrapped
-        again; a loop that can shrink to nothing, one around no core, vanishes). ``core ⊆ result ⊆
+        The pixels whose centre lies inside the shortest loops (loops that overlap merge; a loop that can shrink to nothing, one around no core, vanishes). ``core ⊆ result ⊆
         fillet`` holds exactly.
 
     Examples
@@ -112,28 +129,40 @@ def mpp_finish(mask, core, fillet) -> np.ndarray:
             return None
         return shapely.make_valid(Polygon(geo.xy))
 
-    current = _squares(M)
-    for _ in range(_ROUNDS):
-        pieces = []
-        for part in shapely.get_parts(current):
-            shell = wrap(shapely.get_coordinates(part.exterior))
-            if shell is None:
-                continue
-            holes = [w for w in (wrap(shapely.get_coordinates(h)) for h in part.interiors) if w is not None]
-            pieces.append(shell.difference(shapely.union_all(holes)) if holes else shell)
-        new = shapely.union_all(pieces) if pieces else Polygon()
-        new = shapely.union_all([g for g in shapely.get_parts(new) if g.geom_type == "Polygon"]) \
-            if not new.is_empty else new
-        same = len(shapely.get_parts(new)) == len(shapely.get_parts(current)) and \
-            sum(len(p.interiors) for p in shapely.get_parts(new)) == \
-            sum(len(p.interiors) for p in shapely.get_parts(current))
-        current = new
-        if same:
-            break
     out = R.copy()
     ii, jj = np.nonzero(movable)
-    if not current.is_empty:
-        shapely.prepare(current)
-        out[ii, jj] = shapely.contains_xy(current, jj + 0.5, -ii - 0.5)
-    return (out | R) & F
+    xs, ys = jj + 0.5, -ii - 0.5
+    inside = np.zeros(len(ii), dtype=bool)
+    # Each part of the set is wrapped and sampled on its own: two loops that come to touch along a line
+    # share no pixel centre and stay two parts; loops that overlap share pixels and merge, as the level set
+    # merges them.
+    for part in shapely.get_parts(_squares(M)):
+        shell = wrap(shapely.get_coordinates(part.exterior))
+        if shell is None:
+            continue
+        holes = [w for w in (wrap(shapely.get_coordinates(h)) for h in part.interiors) if w is not None]
+        piece = shell.difference(shapely.union_all(holes)) if holes else shell
+        if piece.is_empty:
+            continue
+        x0, y0, x1, y1 = piece.bounds
+        near = np.flatnonzero((xs >= x0) & (xs <= x1) & (ys >= y0) & (ys <= y1))
+        shapely.prepare(piece)
+        got = near[shapely.contains_xy(piece, xs[near], ys[near])]
+        # A guard: the wrapped part must stay one part with no more holes than it had (a funnel that
+        # failed on a degenerate sleeve could give a self-touching curve); otherwise keep the flow's own.
+        mine = np.zeros(M.shape, dtype=bool)
+        mine[ii[got], jj[got]] = True
+        mine |= R & _part_mask(part, M.shape)
+        if _topology(mine) != (1, len(holes)) and _topology(mine)[0] != 0:
+            own = _part_mask(part, M.shape) & movable
+            inside |= own[ii, jj]
+            continue
+        inside[got] = True
+    out[ii, jj] = inside
+    out = (out | R) & F
+    # The flow found the topology; the finish only straightens. Where the sampled loops come to touch
+    # (two parts whose wrapped curves leave pixels diagonally adjacent), keep the flow's result.
+    if _topology(out) != _topology((M | R) & F):
+        return (M | R) & F
+    return out
 
