@@ -101,6 +101,15 @@ def mpp_finish(mask, core, fillet) -> np.ndarray:
     movable = F & ~R
     if not movable.any() or not M.any():
         return (M | R) & F
+    # Work on the fillet's bounding box, in its own coordinates: the result is then the same, pixel for
+    # pixel, however the image around it is cropped or padded (funnel corners and sample points round
+    # alike; a loop's edge often passes exactly through a pixel centre).
+    rows, cols = np.flatnonzero(F.any(axis=1)), np.flatnonzero(F.any(axis=0))
+    box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+    if F[box].shape != F.shape:
+        out = (M | R) & F
+        out[box] = mpp_finish(M[box], R[box], F[box])
+        return out
     from vectortighten.geodesic import closed_geodesic, sleeve, triangulate
 
     inner = _squares(R)
