@@ -11,7 +11,7 @@ and values; `tighten_labels` tightens every label of a label image into one labe
 `read_image` and `write_image` keep a file's values, dtype and layout (PNG, TIFF, BMP).
 """
 
-from .flow import RasterTightening, default_levels, signed_distance, tighten
+from .flow import NotConvergedWarning, RasterTightening, default_levels, signed_distance, tighten
 from .grid import Grid, contours, rasterize
 from .io import MAX_PIXELS, MaskImage, load_mask, read_image, save_mask, write_image
 from .labels import LabelTightening, tighten_labels
@@ -36,6 +36,7 @@ __all__ = [
     "MaskImage",
     "MaskValues",
     "MaskWarning",
+    "NotConvergedWarning",
     "RasterTightening",
     "anticore",
     "binarize",

@@ -31,6 +31,7 @@ image, pixel for pixel.
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -38,13 +39,23 @@ from scipy import ndimage
 
 from ._checks import check_mask, check_radius
 from .morphology import _core_fillet, mason, vanishes
+from .mpp import mpp_finish
 
-__all__ = ["RasterTightening", "tighten", "signed_distance", "default_levels"]
+__all__ = ["NotConvergedWarning", "RasterTightening", "default_levels", "signed_distance", "tighten"]
 
 INITS = ("core", "input", "mason")
+FINISHES = ("mpp", "none")
 _EPS = 1e-12
 #: Steps over which a level's rest is judged (see `tighten`'s ``stop``).
 STOP_WINDOW = 50
+#: The least step cap a level gets when `tighten` runs until rest.
+MIN_CAP = 2000
+#: Steps of cap per pixel of a level's height + width, when that is more than `MIN_CAP`.
+CAP_PER_PIXEL = 4
+
+
+class NotConvergedWarning(UserWarning):
+    """A level of the flow ran out of steps before its front rested."""
 
 
 @dataclass
@@ -70,6 +81,14 @@ class RasterTightening:
     timings : dict of str to float
         Seconds per phase: ``"morphology"``, ``"init"``, ``"flow level k"`` (k = 0 is full resolution),
         and ``"total"``.
+    converged : list of bool
+        Whether the front rested at each level, coarsest first (False: the step cap or the budget ran
+        out first; `tighten` then warns with `NotConvergedWarning`).
+    budget : str
+        The step budget the flow ran with: ``"until rest"`` (the default), or the paper's 100 steps a
+        level, or another fixed number.
+    finish : str
+        The final step applied after the flow (``"mpp"`` or ``"none"``, see `tighten`).
     """
 
     mask: np.ndarray
@@ -81,6 +100,14 @@ class RasterTightening:
     levels: int
     iterations: list = field(default_factory=list)
     timings: dict = field(default_factory=dict)
+    converged: list = field(default_factory=list)
+    budget: str = "until rest"
+    finish: str = "none"
+
+    @property
+    def is_converged(self) -> bool:
+        """Whether the front rested at every level (see `converged`)."""
+        return all(self.converged)
 
     @property
     def mortar(self) -> np.ndarray:
@@ -487,8 +514,10 @@ def _keep_topology(flat: np.ndarray, idx: np.ndarray, old: np.ndarray, new: np.n
 
 
 def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
-          keep_topology: bool = False, own_front: bool = True) -> tuple[np.ndarray, int]:
-    """Run the constrained flow on one level; returns Φ and the number of steps taken.
+          keep_topology: bool = False, own_front: bool = True,
+          rest: str = "front") -> tuple[np.ndarray, int, bool]:
+    """Run the constrained flow on one level; returns Φ, the number of steps taken and whether the front
+    rested (the rest test below passed, or no front was left) before ``iterations`` steps ran out.
 
     With ``keep_topology`` a pixel changes sign only where that changes no component or hole (a simple
     pixel): the coarse levels use it, because there fronts a pixel or two apart would merge across gaps
@@ -504,9 +533,12 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
     comp = owner = None
     stale = own_front
     snapshot, last_flip = None, 0
+    rested = iterations == 0 and band.idx.size == 0
+    last_topo, last_topo_flip = None, 0
     for steps in range(1, iterations + 1):
         if band.idx.size == 0:
             steps -= 1
+            rested = True
             break
         idx = band.idx
         if stale:
@@ -525,13 +557,27 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
         flips = (old < 0) != (new < 0)
         if flips.any():
             last_flip = steps
-        if steps % STOP_WINDOW == 0:
+            if rest == "topology":
+                fl = idx[flips]
+                if not _SIMPLE[_ring_codes(flat, fl, Wp)].all():
+                    last_topo_flip = steps
+        if steps % STOP_WINDOW == 0 and rest == "topology" and stop > 0:
+            # Only the homotopy class is needed (a minimum-perimeter finish follows): the level rests
+            # when its parts and holes stayed the same over a whole window without a pixel changing a
+            # component or a hole.
+            topo = _topology_counts(P[1:-1, 1:-1] < 0)
+            if topo == last_topo and steps - last_topo_flip >= STOP_WINDOW:
+                rested = True
+                break
+            last_topo = topo
+        elif steps % STOP_WINDOW == 0:
             # Rest is judged on the net change over a window: a pixel that swings in place every step (at a
             # constraint's corner, say) moves Φ by a tenth of a pixel a step forever and never rests step
             # by step, while the front it sits on has long stopped.
             if snapshot is not None and steps - last_flip >= STOP_WINDOW:
                 near = np.abs(P) <= 1.0
                 if float(np.abs(P - snapshot)[near].max(initial=0.0)) < stop * STOP_WINDOW:
+                    rested = True
                     break
             snapshot = P.copy()
         # Rebuild the band when the front reaches its rim; inside it, the band still holds the front.
@@ -548,7 +594,14 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
                 stale = True
             else:
                 comp[pos], owner[pos] = owner[pos], comp[pos].copy()
-    return P[1:-1, 1:-1].copy(), steps
+    return P[1:-1, 1:-1].copy(), steps, rested
+
+
+def _topology_counts(inside: np.ndarray) -> tuple[int, int]:
+    """Components (8-connected) and holes (4-connected outside parts not touching the edge) of a set."""
+    _, n = ndimage.label(inside, structure=np.ones((3, 3), bool))
+    lab, m = ndimage.label(np.pad(~inside, 1, constant_values=True))
+    return int(n), int(m) - 1
 
 
 def _reinitialise(base: np.ndarray, inside: np.ndarray, movable: np.ndarray) -> np.ndarray:
@@ -605,8 +658,14 @@ def _upsample(phi: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
     return (2.0 * (top * (1 - fr) + bot * fr)).astype(np.float32)
 
 
-def tighten(mask, r, *, init: str = "core", levels: int | None = None, iterations: int = 100,
-            stop: float = 1e-3, supersample: int = 1) -> RasterTightening:
+def _step_cap(shape: tuple[int, int]) -> int:
+    """The safety net on a level's steps when ``iterations`` is None: `MIN_CAP`, or the level's
+    perimeter in pixels times `CAP_PER_PIXEL` if that is more."""
+    return max(MIN_CAP, CAP_PER_PIXEL * (shape[0] + shape[1]))
+
+
+def tighten(mask, r, *, init: str = "core", levels: int | None = None, iterations: int | None = None,
+            stop: float = 1e-3, supersample: int = 1, finish: str = "mpp") -> RasterTightening:
     """The r-tightening of a binary image by constrained level-set curvature flow (the paper's §3).
 
     Parameters
@@ -619,8 +678,11 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
         The initial set: the core (the paper's method), the input (self-dual), or Mason(M) (self-dual).
     levels : int, optional
         Resolution levels of the multiscale scheme; default `default_levels(r)`. 1 = single scale.
-    iterations : int
-        Largest number of steps a level (the paper's 100).
+    iterations : int, optional
+        Largest number of steps a level. By default (None) each level flows until its front rests (the
+        ``stop`` test), with a safety cap of `_step_cap` steps (at least `MIN_CAP`, more on large
+        levels) that a converging flow does not reach; ``iterations=100`` reproduces the paper's budget
+        of 100 steps a level (it says so in ``budget``, and warns if a level had not rested by then).
     stop : float
         Early stop: a level ends when no pixel has changed sign for `STOP_WINDOW` steps and over those
         steps Φ within a pixel of the front has changed, net, by less than this many pixels a step (net,
@@ -635,6 +697,11 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
         that fit an acute corner (a boundary off by δ moves such a disk by δ/sin α in a wedge of
         half-angle α). ``r`` and ``mask`` are in the fine pixels; the result is on the coarse grid
         (``mask.shape // supersample``) and its ``r`` is in coarse pixels.
+    finish : {"mpp", "none"}
+        A final step after the flow: ``"mpp"`` (the default) replaces each boundary loop by the shortest
+        loop homotopic to it in the pixel mortar (`raster.mpp.mpp_finish`, the paper's §4.7), which makes
+        long straight tight segments straight where the flow leaves them bowed; ``"none"`` returns the
+        flow's own result (the paper's method).
 
     Returns
     -------
@@ -661,14 +728,17 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
     r = check_radius(r)
     if init not in INITS:
         raise ValueError(f"init must be one of {', '.join(INITS)}, got {init!r}")
+    if finish not in FINISHES:
+        raise ValueError(f"finish must be one of {', '.join(FINISHES)}, got {finish!r}")
     ss = _check_supersample(supersample, M.shape)
     if levels is None:
         levels = default_levels(r / ss)
     elif int(levels) != levels or levels < 1:
         raise ValueError(f"levels must be a whole number ≥ 1, got {levels!r}")
-    if int(iterations) != iterations or iterations < 0:
-        raise ValueError(f"iterations must be a whole number ≥ 0, got {iterations!r}")
-    levels, iterations = int(levels), int(iterations)
+    if iterations is not None and (isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer))
+                                   or iterations < 0):
+        raise ValueError(f"iterations must be a whole number ≥ 0 or None, got {iterations!r}")
+    levels = int(levels)
     timings = {}
     t0 = time.perf_counter()
     R, F = _core_fillet(M, r)
@@ -703,7 +773,7 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
         r = r / ss
     movable = F & ~R
     timings["init"] = time.perf_counter() - t0
-    counts = []
+    counts, converged = [], []
     phi = None
     for k in range(levels - 1, -1, -1):
         t0 = time.perf_counter()
@@ -719,11 +789,26 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
             # topology check, merges and splits what truly meets or pinches off).
             inside = _homotopic(base < 0, target, mov_k)
             phi_k = _reinitialise(base, inside, mov_k)
-        phi, n = _flow(phi_k, mov_k, iterations, stop, keep_topology=k > 0)
+        cap = _step_cap(mov_k.shape) if iterations is None else int(iterations)
+        phi, n, rested = _flow(phi_k, mov_k, cap, stop, keep_topology=k > 0,
+                               rest="topology" if finish == "mpp" else "front")
         counts.append(n)
+        converged.append(rested)
         timings[f"flow level {k}"] = time.perf_counter() - t0
     out = (phi < 0) | R
     out &= F
+    if finish == "mpp":
+        t0 = time.perf_counter()
+        out = mpp_finish(out, R, F)
+        timings["finish"] = time.perf_counter() - t0
     timings["total"] = time.perf_counter() - t_start
+    budget = "until rest" if iterations is None else (
+        "the paper's 100 steps a level" if iterations == 100 else f"{int(iterations)} steps a level")
+    if not all(converged):
+        late = [levels - 1 - i for i, ok in enumerate(converged) if not ok]
+        warnings.warn(f"raster.tighten: the flow did not rest within {budget} at level(s) "
+                      f"{', '.join(map(str, late))} (0 = full resolution); the result is not converged",
+                      NotConvergedWarning, stacklevel=2)
     return RasterTightening(mask=out, phi=phi, core=R, fillet=F, r=r, init=init, levels=levels,
-                            iterations=counts, timings=timings)
+                            iterations=counts, timings=timings, converged=converged, budget=budget,
+                            finish=finish)

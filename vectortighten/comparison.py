@@ -163,7 +163,8 @@ def pixel_squares(mask: np.ndarray, grid):
 
 
 def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: int | None = None,
-               iterations: int = 1000, mask_reference: bool = False, supersample: int = 5) -> CrossCheck:
+               iterations: int = 1000, mask_reference: bool = False, supersample: int = 5,
+               finish: str = "mpp") -> CrossCheck:
     """Tighten S exactly and on pixels, and compare the two on the same grid.
 
     The grid covers S's bounds grown by 2r plus two pixels, so nothing a tightening adds leaves it. S is
@@ -191,6 +192,8 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
         result with it (``mask_hausdorff_px``, ``mask_topology``): the pixel flow measured on the very
         input it was given, free of the error of rasterising S. Costs a second exact tightening, of a
         staircase with many corners.
+    finish : {"mpp", "none"}
+        The pixel flow's final step (see `raster.tighten`); ``"none"`` compares the paper's flow alone.
     supersample : int, odd, ≥ 1
         Rasterise S this many times finer (pixels of side ``pixel_size / supersample``, in S's units) and
         let `raster.tighten` compute its core, fillet and start, and their signed distances, there (its
@@ -244,7 +247,7 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
     if not mask.any():
         raise ValueError(f"pixel_size {pixel_size:g} is too coarse: no pixel centre falls inside S")
     RT = raster.tighten(mask, r / fine.pixel_size, init=init, levels=levels, iterations=iterations,
-                        supersample=int(supersample))
+                        supersample=int(supersample), finish=finish)
     vmask, _ = raster.rasterize(T.geometry, grid) if not T.geometry.is_empty else (np.zeros(grid.shape, bool), grid)
     contour = raster.contours(RT, grid)
     h = _boundary_distance(T.geometry, contour, pixel_size)

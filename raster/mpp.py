@@ -1,0 +1,177 @@
+"""A minimum-perimeter-polygon finish for the pixel flow (the paper's §4.7 and its reference [25]).
+
+Curvature flow straightens a long, nearly straight tight segment only slowly: its curvature, and so its
+speed, goes to zero as it straightens, and a few hundred steps leave it bowed by several pixels. The
+finish replaces each boundary loop of the flow's result by the shortest closed curve homotopic to it in
+the *pixel mortar*, the union of the fillet's pixel squares less the core's: Sklansky's minimum-perimeter
+polygon, a relative convex hull (Klette and Rosenfeld's "Digital geometry", ch. 7). The flow only has to
+find the homotopy class, which it does long before it rests; the finish makes the straight stretches
+straight and leaves the arcs on the constraint's pixel corners.
+
+The curves are computed with the exact engine's funnel on a constrained triangulation of the mortar
+(`vectortighten.geodesic`), then the result is sampled at the pixel centres. ``core ⊆ result ⊆ fillet``
+holds exactly: a core pixel's centre is half a pixel inside the curve's obstacle, an anticore pixel's
+centre half a pixel outside the curve's domain.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from scipy import ndimage
+from shapely.geometry import Polygon
+
+__all__ = ["mpp_finish"]
+
+#: How far the mortar is thickened where core and fillet touch, pixels (room for the curve there).
+_THICKEN = 1e-6
+
+
+def _squares(mask: np.ndarray):
+    """Union of the True pixels' unit squares, x = column, y = −row (pixel (i, j) is [j, j+1] × [−i−1, −i]),
+    with collinear vertices removed."""
+    m = np.asarray(mask, dtype=np.int8)
+    if not m.any():
+        return Polygon()
+    # Runs along each row: far fewer boxes to union than pixels.
+    d = np.diff(np.pad(m, ((0, 0), (1, 1))), axis=1)
+    si, sj = np.nonzero(d == 1)             # row-major, so the k-th start and the k-th end pair up
+    _, ej = np.nonzero(d == -1)
+    boxes = shapely.box(sj, -si - 1, ej, -si)
+    return shapely.union_all(boxes).simplify(0)
+
+
+def _part_mask(part, shape) -> np.ndarray:
+    """The pixels whose centre lies in a polygon of `_squares`' coordinates."""
+    out = np.zeros(shape, dtype=bool)
+    x0, y0, x1, y1 = part.bounds
+    i0, i1 = max(int(-y1), 0), min(int(np.ceil(-y0)), shape[0])
+    j0, j1 = max(int(x0), 0), min(int(np.ceil(x1)), shape[1])
+    jj, ii = np.meshgrid(np.arange(j0, j1), np.arange(i0, i1))
+    shapely.prepare(part)
+    out[i0:i1, j0:j1] = shapely.contains_xy(part, jj + 0.5, -ii - 0.5)
+    return out
+
+
+def _topology(inside: np.ndarray) -> tuple[int, int]:
+    """Components (8-connected) and holes (4-connected) of a pixel set."""
+    _, n = ndimage.label(inside, structure=np.ones((3, 3), bool))
+    _, m = ndimage.label(np.pad(~inside, 1, constant_values=True))
+    return int(n), int(m) - 1
+
+
+def _rings(geom) -> list[tuple[int, np.ndarray, bool]]:
+    """(part index, coordinates, is_exterior) for every ring of every polygon part."""
+    out = []
+    for k, part in enumerate(shapely.get_parts(geom)):
+        if part.is_empty:
+            continue
+        out.append((k, shapely.get_coordinates(part.exterior), True))
+        out += [(k, shapely.get_coordinates(h), False) for h in part.interiors]
+    return out
+
+
+def mpp_finish(mask, core, fillet) -> np.ndarray:
+    """Replace each boundary loop of ``mask`` by the shortest loop homotopic to it in the pixel mortar.
+
+    Parameters
+    ----------
+    mask, core, fillet : (H, W) arrays of bool
+        A set between its constraints (``core ⊆ mask ⊆ fillet``), e.g. the flow's result.
+
+    Returns
+    -------
+    (H, W) ndarray of bool
+        The pixels whose centre lies inside the shortest loops (loops that overlap merge; a loop that can shrink to nothing, one around no core, vanishes). ``core ⊆ result ⊆
+        fillet`` holds exactly.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> core = np.zeros((20, 20), bool); core[4:16, 4:6] = True; core[4:16, 14:16] = True
+    >>> fillet = np.zeros((20, 20), bool); fillet[2:18, 2:18] = True
+    >>> start = fillet.copy()                                   # a loose loop around both bars
+    >>> out = mpp_finish(start, core, fillet)
+    >>> bool(out[4:16, 4:16].all()), bool(out[3, 10])           # the taut loop: the bars' convex hull
+    (True, False)
+    """
+    M = np.asarray(mask, dtype=bool)
+    R = np.asarray(core, dtype=bool)
+    F = np.asarray(fillet, dtype=bool)
+    movable = F & ~R
+    if not movable.any() or not M.any():
+        return (M | R) & F
+    # Work on the fillet's bounding box, in its own coordinates: the result is then the same, pixel for
+    # pixel, however the image around it is cropped or padded (funnel corners and sample points round
+    # alike; a loop's edge often passes exactly through a pixel centre).
+    rows, cols = np.flatnonzero(F.any(axis=1)), np.flatnonzero(F.any(axis=0))
+    box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+    if F[box].shape != F.shape:
+        out = (M | R) & F
+        out[box] = mpp_finish(M[box], R[box], F[box])
+        return out
+    from vectortighten.geodesic import closed_geodesic, sleeve, triangulate
+
+    inner = _squares(R)
+    outer = _squares(F)
+    domain = shapely.difference(outer.buffer(_THICKEN, join_style="mitre", mitre_limit=50.0),
+                                inner.buffer(-_THICKEN, join_style="mitre", mitre_limit=50.0)
+                                if not inner.is_empty else Polygon())
+    parts = list(shapely.get_parts(domain))
+    tree = shapely.STRtree(parts)
+    tris: dict[int, object] = {}
+
+    def wrap(ring: np.ndarray) -> Polygon | None:
+        probe = shapely.points(ring[: min(len(ring), 8)])
+        hits = tree.query(probe, predicate="intersects")[1]
+        if len(hits) == 0:
+            return None
+        k = int(np.bincount(hits).argmax())
+        if k not in tris:
+            tris[k] = triangulate(parts[k])
+        T = tris[k]
+        try:
+            geo = closed_geodesic(T, sleeve(T, ring))
+        except RuntimeError:
+            return Polygon(ring)            # no consistent geodesic: keep the flow's own loop
+        if geo is None or len(geo.xy) < 3:
+            return None
+        return shapely.make_valid(Polygon(geo.xy))
+
+    out = R.copy()
+    ii, jj = np.nonzero(movable)
+    xs, ys = jj + 0.5, -ii - 0.5
+    inside = np.zeros(len(ii), dtype=bool)
+    # Each part of the set is wrapped and sampled on its own: two loops that come to touch along a line
+    # share no pixel centre and stay two parts; loops that overlap share pixels and merge, as the level set
+    # merges them.
+    for part in shapely.get_parts(_squares(M)):
+        shell = wrap(shapely.get_coordinates(part.exterior))
+        if shell is None:
+            continue
+        holes = [w for w in (wrap(shapely.get_coordinates(h)) for h in part.interiors) if w is not None]
+        piece = shell.difference(shapely.union_all(holes)) if holes else shell
+        if piece.is_empty:
+            continue
+        x0, y0, x1, y1 = piece.bounds
+        near = np.flatnonzero((xs >= x0) & (xs <= x1) & (ys >= y0) & (ys <= y1))
+        shapely.prepare(piece)
+        got = near[shapely.contains_xy(piece, xs[near], ys[near])]
+        # A guard: the wrapped part must stay one part with no more holes than it had (a funnel that
+        # failed on a degenerate sleeve could give a self-touching curve); otherwise keep the flow's own.
+        mine = np.zeros(M.shape, dtype=bool)
+        mine[ii[got], jj[got]] = True
+        mine |= R & _part_mask(part, M.shape)
+        if _topology(mine) != (1, len(holes)) and _topology(mine)[0] != 0:
+            own = _part_mask(part, M.shape) & movable
+            inside |= own[ii, jj]
+            continue
+        inside[got] = True
+    out[ii, jj] = inside
+    out = (out | R) & F
+    # The flow found the topology; the finish only straightens. Where the sampled loops come to touch
+    # (two parts whose wrapped curves leave pixels diagonally adjacent), keep the flow's result.
+    if _topology(out) != _topology((M | R) & F):
+        return (M | R) & F
+    return out
+
