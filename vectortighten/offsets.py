@@ -324,14 +324,7 @@ class _Elements:
 
     def inside_edge(self, xy, j) -> np.ndarray:
         """Whether points lie in the open capsule of edge ``j`` (closed rule: nearer than r − precision)."""
-        p, q = self.a[j], self.b[j]
-        d = q - p
-        L2 = (d * d).sum(axis=1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            u = np.clip(((xy - p) * d).sum(axis=1) / L2, 0.0, 1.0)
-        u = np.where(L2 > 0, u, 0.0)
-        f = p + u[:, None] * d
-        return np.hypot(xy[:, 0] - f[:, 0], xy[:, 1] - f[:, 1]) < self.r - self.eps
+        return self._edge_distance(xy, j) < self.r - self.eps
 
 
 def _split(el, lo, hi, cut, tiny):
