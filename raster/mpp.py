@@ -110,28 +110,18 @@ def mpp_finish(mask, core, fillet) -> np.ndarray:
         out = (M | R) & F
         out[box] = mpp_finish(M[box], R[box], F[box])
         return out
-    from vectortighten.geodesic import closed_geodesic, sleeve, triangulate
+    from vectortighten.geodesic import ShortestLoops
 
     inner = _squares(R)
     outer = _squares(F)
     domain = shapely.difference(outer.buffer(_THICKEN, join_style="mitre", mitre_limit=50.0),
                                 inner.buffer(-_THICKEN, join_style="mitre", mitre_limit=50.0)
                                 if not inner.is_empty else Polygon())
-    parts = list(shapely.get_parts(domain))
-    tree = shapely.STRtree(parts)
-    tris: dict[int, object] = {}
+    shortest = ShortestLoops(domain, probe=8)
 
     def wrap(ring: np.ndarray) -> Polygon | None:
-        probe = shapely.points(ring[: min(len(ring), 8)])
-        hits = tree.query(probe, predicate="intersects")[1]
-        if len(hits) == 0:
-            return None
-        k = int(np.bincount(hits).argmax())
-        if k not in tris:
-            tris[k] = triangulate(parts[k])
-        T = tris[k]
         try:
-            geo = closed_geodesic(T, sleeve(T, ring))
+            geo = shortest(ring)
         except RuntimeError:
             return Polygon(ring)            # no consistent geodesic: keep the flow's own loop
         if geo is None or len(geo.xy) < 3:

@@ -44,7 +44,7 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
-__all__ = ["ClosedGeodesic", "Triangulation", "closed_geodesic", "sleeve", "triangulate"]
+__all__ = ["ClosedGeodesic", "ShortestLoops", "Triangulation", "closed_geodesic", "sleeve", "triangulate"]
 
 #: Slot k of a triangle is its edge from corner k to corner ``_NEXT[k]``.
 _NEXT = np.array([1, 2, 0])
@@ -1374,3 +1374,28 @@ def closed_geodesic(T: Triangulation, portals: np.ndarray, max_restarts: int = 8
             break
         start = nxt[len(nxt) // 2]
     raise RuntimeError("closed geodesic did not close consistently")
+
+
+class ShortestLoops:
+    """Shortest closed curves homotopic to given rings, each in the part of ``domain`` that holds it.
+
+    The parts are indexed once and each is triangulated on first use. Calling the object with a ring
+    returns its `ClosedGeodesic`, or None where the ring lies in no part or shrinks to nothing.
+    ``probe`` vertices of the ring decide which part holds it (the part most of them touch).
+    """
+
+    def __init__(self, domain: Polygon | MultiPolygon, probe: int):
+        self.parts = list(shapely.get_parts(domain))
+        self.tree = shapely.STRtree(self.parts)
+        self.probe = probe
+        self._tris: dict[int, Triangulation] = {}
+
+    def __call__(self, ring: np.ndarray) -> ClosedGeodesic | None:
+        hits = self.tree.query(shapely.points(ring[: min(len(ring), self.probe)]), predicate="intersects")[1]
+        if len(hits) == 0:
+            return None
+        k = int(np.bincount(hits).argmax())
+        if k not in self._tris:
+            self._tris[k] = triangulate(self.parts[k])
+        T = self._tris[k]
+        return closed_geodesic(T, sleeve(T, ring))

@@ -13,7 +13,7 @@ from shapely.geometry import MultiPolygon, Polygon
 
 from ._validation import check_shape
 from .errors import InvalidGeometryError
-from .geodesic import closed_geodesic, sleeve, triangulate
+from .geodesic import ShortestLoops
 
 __all__ = ["relative_convex_hull"]
 
@@ -80,19 +80,10 @@ def relative_convex_hull(inner, outer) -> Polygon | MultiPolygon:
                                 inner.buffer(-eps, join_style="mitre", mitre_limit=50.0))
     original = np.vstack([shapely.get_coordinates(outer), shapely.get_coordinates(inner)])
     kd = cKDTree(original)
-    parts = list(shapely.get_parts(domain))
-    tree = shapely.STRtree(parts)
-    tris = {}
+    shortest = ShortestLoops(domain, probe=4)
 
     def wrap(ring: np.ndarray) -> Polygon | None:
-        hits = tree.query(shapely.points(ring[:4]), predicate="intersects")[1]
-        if len(hits) == 0:
-            return None
-        k = int(np.bincount(hits).argmax())
-        if k not in tris:
-            tris[k] = triangulate(parts[k])
-        T = tris[k]
-        geo = closed_geodesic(T, sleeve(T, ring))
+        geo = shortest(ring)
         if geo is None:
             return None
         _, j = kd.query(geo.xy)
