@@ -24,6 +24,7 @@ FIGURES = [
     "fig8_raster_40",
     "fig9_raster_75",
     "fig10_comparison",
+    "fig11_closed_shrink",
 ]
 
 

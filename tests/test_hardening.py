@@ -20,7 +20,7 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from shapely import affinity
-from shapely.geometry import MultiPolygon, Polygon, box
+from shapely.geometry import LineString, MultiPolygon, Point, Polygon, box
 
 import vectortighten as vt
 from tests import strategies as vst
@@ -143,13 +143,17 @@ def test_comb_is_right_or_loud():
     right_or_loud(comb(), 0.5)
 
 
-@pytest.mark.xfail(strict=True, reason="engine: the exact finish does not settle on a comb whose teeth are "
-                   "exactly 2r wide (converged=False; loops enter the core, two touch); _finish/surgery")
-def test_comb_with_teeth_2r_wide_converges():
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", vt.ConvergenceWarning)
-        T = vt.tighten(comb(), 0.5)
+@pytest.mark.parametrize("init", ["core", "input"])
+def test_comb_with_teeth_2r_wide_converges(init):
+    # Teeth and the base exactly 2r wide: all core (the closed shrink), so T keeps every tooth up to its
+    # tip's rounded end, and the gaps (2r wide too) stay open down to the base.
+    T = vt.tighten(comb(), 0.5, init=init)
     assert T.converged and T.verify() == []
+    assert (T.n_components, T.n_holes) == (1, 0)
+    for i in range(7):
+        x = i * 2.0 + 1.0
+        assert T.geometry.covers(LineString([(x, 0.5), (x, 4.5)]))        # the tooth's centre line
+        assert not T.geometry.intersects(Point(x + 1.0, 3.0))             # the gap beside it
 
 
 @pytest.mark.parametrize("offset", [1e6, 1e8])

@@ -19,7 +19,7 @@ from scipy.spatial import cKDTree
 from shapely.geometry import LineString, MultiPolygon, Point, Polygon
 
 from ._proximity import EdgeIndex, point_segment_distance
-from ._validation import check_radius, check_shape, check_tolerance, quad_segs_for
+from ._validation import check_radius, check_shape, check_tolerance
 from .curves import Side
 from .tolerances import ANGLE_ZERO, CENTER_SEARCH_R, PENETRATION_R, ZERO_SCALE
 
@@ -429,11 +429,96 @@ def arc_centers(S, r: float, *, tolerance: float | None = None) -> ArcCenters:
     """
     r = check_radius(r)
     S = check_shape(S)
-    tol = check_tolerance(tolerance, r)
-    q = quad_segs_for(r, tol)
-    from .morphology import _grow_raw, _orient, _shrink_raw
+    check_tolerance(tolerance, r)
+    return exact_centers(S, r)[0]
 
-    return _arc_centers(S, r, _orient(_shrink_raw(S, r, q)), _orient(_grow_raw(S, r, q)), q)
+
+def exact_centers(S, r: float):
+    """The exact arc centres of both sides from S's exact offsets, and those offsets (side +1, side −1).
+
+    S must be valid and oriented. Every centre is a corner of ``S↓r`` or of ``(S^c)↓r``
+    (`vectortighten.offsets`), found from S's edges alone; each is given the two features of S nearest
+    to it (at distance r to rounding).
+    """
+    from .offsets import exact_offsets
+
+    E = exact_offsets(S, r, 1)
+    G = exact_offsets(S, r, -1)
+    xy = np.concatenate([E.corners, G.corners])
+    side = np.concatenate([np.ones(len(E.corners), np.int8), -np.ones(len(G.corners), np.int8)])
+    a, b, nxt = boundary_edges(S)
+    features = _nearest_features(xy, a, b, nxt, r)
+    C = ArcCenters(xy=xy, side=side, features=features, exact=np.ones(len(xy), dtype=bool),
+                   source=np.full((len(xy), 2), np.nan), edge_start=a, edge_end=b, r=r)
+    return C, E, G
+
+
+def _nearest_features(xy, a, b, nxt, r):
+    """For each point, the two distinct features of S (edge lines ``2i``, vertices ``2i+1``) nearest it."""
+    out = np.full((len(xy), 2), -1, dtype=np.int64)
+    if len(xy) == 0 or len(a) == 0:
+        return out
+    tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
+    pi, ei = tree.query(shapely.points(xy), predicate="dwithin", distance=r * (1 + 1e-6))
+    d = b[ei] - a[ei]
+    L2 = np.einsum("ij,ij->i", d, d)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = np.einsum("ij,ij->i", xy[pi] - a[ei], d) / L2
+    t = np.where(L2 > 0, t, 0.0)
+    key = np.where(t <= 0, 2 * ei + 1, np.where(t >= 1, 2 * nxt[ei] + 1, 2 * ei))
+    dist = _distance_to_feature(xy[pi], a[ei], b[ei], np.zeros(len(ei), dtype=np.int64))
+    order = np.lexsort((dist, pi))
+    pi, key, dist = pi[order], key[order], dist[order]
+    for p, k in zip(pi.tolist(), key.tolist()):
+        row = out[p]
+        if row[0] < 0:
+            row[0] = k
+        elif row[1] < 0 and k != row[0]:
+            row[1] = k
+    return out
+
+
+def snap_onto(P, cxy: np.ndarray, side: int, window: float):
+    """``P`` with each convex (side +1) or reflex (−1) vertex within ``window`` of a centre moved onto it."""
+    if P.is_empty or len(cxy) == 0:
+        return P
+    from .morphology import _orient
+
+    P = _orient(P)
+    pts = _corner_vertices(P, convex=side > 0)
+    if len(pts) == 0:
+        return P
+    d, j = cKDTree(cxy).query(pts, distance_upper_bound=window)
+    ok = np.isfinite(d)
+    return _move_vertices(P, pts[ok], cxy[j[ok]])
+
+
+def missing_lines(X, P, r: float, far_r: float, max_angle: float):
+    """The pieces of the exact offsets ``X`` of one side that GEOS's buffer ``P`` lacks, as lines, or None.
+
+    ``P`` is GEOS's shrink of S (side +1) or its grow (side −1). The closed shrink keeps the parts of S
+    exactly 2r wide (their shrink is a centre line) and the grow's complement the gaps exactly 2r wide;
+    GEOS's buffers lose them, and gaps or necks within GEOS's simplification (up to about r/100) of 2r
+    wide are decided there by its vertices, not by the clearance. A piece whose middle lies farther than
+    ``far_r``·r from the shrink (for the grow's complement: inside the grow, that far from its boundary)
+    is one GEOS lacks. Arcs are drawn through points at most ``max_angle`` apart (their chords' sag is
+    the error of a buffer of the lines).
+    """
+    lines = X.polylines(max_angle)
+    if not lines:
+        return None
+    mids = shapely.points(np.array([0.5 * (pl[0] + pl[-1]) if len(pl) == 2 else pl[len(pl) // 2]
+                                    for pl in lines]))
+    far = far_r * r
+    if P.is_empty:
+        keep = np.ones(len(lines), dtype=bool) if X.side > 0 else np.zeros(len(lines), dtype=bool)
+    elif X.side > 0:
+        keep = ~shapely.dwithin(P, mids, far)
+    else:
+        keep = shapely.contains(P, mids) & ~shapely.dwithin(P.boundary, mids, far)
+    if not keep.any():
+        return None
+    return shapely.union_all(np.array([shapely.linestrings(pl) for pl, k in zip(lines, keep) if k]))
 
 
 def _search_window(S, r: float, q: int) -> tuple[float, float]:

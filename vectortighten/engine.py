@@ -41,11 +41,12 @@ from ._proximity import EdgeIndex, PointIndex
 from ._guard import guarded_tighten
 from ._validation import check_output_size, check_radius, check_resolution, check_shape, check_tolerance, \
     quad_segs_for
-from .centers import ArcCenters, _arc_centers, _centres_near, _snap_vertices, boundary_edges
+from .centers import ArcCenters, _search_window, boundary_edges, exact_centers, missing_lines, snap_onto
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
-from .tolerances import DOMAIN_CHORD_R, EXACT_CHORD_R, PENETRATION_R, THICKEN_R, TOUCH_SCALE, ZERO_SCALE
+from .tolerances import DOMAIN_CHORD_R, EXACT_CHORD_R, GUIDE_MISSING_R, OBSTACLE_SAG_R, THICKEN_R, TOUCH_SCALE, VERIFY_DEPTH_R, \
+    ZERO_SCALE
 
 __all__ = ["Init", "Tightening", "tighten"]
 
@@ -107,38 +108,48 @@ class _Context:
         self.tol_int = 0.1 * self.delta
         # A piece may come closer than r to an exact centre only by rounding; to an edge of the buffered
         # shrink or grow by their own inaccuracy (chords, and GEOS's placement of offset vertices).
-        self.pen_center = 1e-9 * r
-        self.pen = 2.0 * self.sag + PENETRATION_R * r
+        # The judge is exact: the centres are the corners of S's exact offsets (`offsets`), the obstacles
+        # their pieces (arcs by chords within OBSTACLE_SAG_R·r), inside tests S's exact clearance. GEOS's
+        # buffers E and G only guide the search for each loop's homotopy class (the free space).
+        self.centers: ArcCenters
+        self.centers, self.xE, self.xG = exact_centers(S, r)
+        self.precision = self.xE.precision
+        self.pen_center = max(1e-10 * r, 4.0 * self.precision)
+        obstacle_angle = 2.0 * math.sqrt(2.0 * OBSTACLE_SAG_R)
+        # Obstacle chords lie within osag of their arcs: a query drawn osag wider finds every piece within
+        # r − pen_center of an obstacle, and each find is then decided by the exact piece distance.
+        self.osag = OBSTACLE_SAG_R * r
+        self.pen = 2.0 * self.osag + self.pen_center
         E, G = (_m._orient(P) for P in _m._offsets(S, r, self.q_exact))
-        self.centers: ArcCenters = _arc_centers(S, r, E, G, self.q_exact)
-        self.E = _snap_vertices(E, self.centers, 1)
-        self.G = _snap_vertices(G, self.centers, -1)
-        shapely.prepare(self.E)
-        shapely.prepare(self.G)
+        window = _search_window(S, r, self.q_exact)[0]
+        self.E = snap_onto(E, self.centers.xy[self.centers.side == 1], 1, window)
+        self.G = snap_onto(G, self.centers.xy[self.centers.side == -1], -1, window)
         self.cxy, self.cside = _distinct_centers(self.centers.xy, self.centers.side.astype(np.int64), r)
         self._index_centres()
         self._s_edges = None
-        edges, kinds = [], []
-        for kind, P in ((1, self.E), (-1, self.G)):
-            if P.is_empty:
-                continue
-            for ring in shapely.get_rings(shapely.get_parts(P)):
-                c = shapely.get_coordinates(ring)
-                edges.append(np.stack([c[:-1], c[1:]], axis=1))
-                kinds.append(np.full(len(c) - 1, kind, dtype=np.int8))
+        edges, kinds, owners, self.opieces = [], [], [], []
+        for kind, X in ((1, self.xE), (-1, self.xG)):
+            for pl in X.polylines(obstacle_angle):         # the straight pieces first, then the arcs
+                edges.append(np.stack([pl[:-1], pl[1:]], axis=1))
+                kinds.append(np.full(len(pl) - 1, kind, dtype=np.int8))
+                owners.append(np.full(len(pl) - 1, len(owners), dtype=np.int64))
+            self.opieces += [(kind, ("seg", (p, q))) for p, q in X.seg]
+            self.opieces += [(kind, ("arc", (c, r, a0, sw))) for c, a0, sw in
+                             zip(X.arc_center, X.arc_start, X.arc_sweep)]
         self.oedges = np.concatenate(edges) if edges else np.zeros((0, 2, 2))
         self.okind = np.concatenate(kinds) if kinds else np.zeros(0, dtype=np.int8)
+        self.opiece = np.concatenate(owners) if owners else np.zeros(0, dtype=np.int64)   # edge → opieces
         shapely.prepare(self.S)
         self.S_boundary = self.S.boundary
         shapely.prepare(self.S_boundary)
+        a, b, _ = boundary_edges(S)
+        self._s_tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
         # The obstacle edges for the finish's grazing queries (see `_proximity`).
         self.oindex = EdgeIndex(self.oedges[:, 0], self.oedges[:, 1], r)
         self._R = None
         self._F = None
         self._domain = None
         self.violation_cache: dict = {}       # `_violations` outcomes by piece, for the exact finish
-        self.rescuing = False                 # `rescue` looks for lost centres (see `_finish`)
-        self._searched: dict[int, set] = {1: set(), -1: set()}     # … and where it has looked
 
     # -- morphology, lazily ------------------------------------------------------------------------------
     # The core and fillet here only guide the search for each loop's homotopy class: the free space is
@@ -150,14 +161,27 @@ class _Context:
     def R(self):
         if self._R is None:
             grown = _m._grow_raw(self.E, self.r, self.q) if not self.E.is_empty else Polygon()
-            self._R = _m._orient(_m._polygonal(shapely.intersection(grown, self.S)))
+            extra = self._missing(self.xE, self.E)
+            if extra is not None:
+                grown = shapely.union(grown, extra.buffer(self.r, quad_segs=self.q))
+            # The exact pieces GEOS lost may reach past GEOS's fillet by GEOS's own error: the guide core
+            # stays inside the guide fillet, so that the free space is a thickened mortar.
+            self._R = _m._orient(_m._polygonal(shapely.intersection(shapely.intersection(grown, self.S), self.F)))
         return self._R
 
     @property
     def F(self):
         if self._F is None:
-            self._F = _m._orient(_m._polygonal(shapely.union(_m._shrink_raw(self.G, self.r, self.q), self.S)))
+            F = shapely.union(_m._shrink_raw(self.G, self.r, self.q), self.S)
+            extra = self._missing(self.xG, None)
+            if extra is not None:
+                F = shapely.difference(F, shapely.difference(extra.buffer(self.r, quad_segs=self.q), self.S))
+            self._F = _m._orient(_m._polygonal(F))
         return self._F
+
+    def _missing(self, X, P):
+        """The exact offset pieces of one side that GEOS's buffer lacks (`centers.missing_lines`)."""
+        return missing_lines(X, self.G if P is None else P, self.r, GUIDE_MISSING_R, math.pi / (2 * self.q))
 
     # -- free space ----------------------------------------------------------------------------------------
     def _build_domain(self):
@@ -221,36 +245,18 @@ class _Context:
         si, _ = index.near_segments(self.cxy[[c1]], self.cxy[[c2]], self.r * (1 - 1e-9) - tiny)
         return len(si) == 0
 
-    def rescue(self, geom, edges) -> int | None:
-        """The centre lost by the buffers that ``geom`` enters most deeply, found from S, or None.
+    def clearance(self, xy: np.ndarray) -> np.ndarray:
+        """Exact distance from each point to S's boundary."""
+        _, d = self._s_tree.query_nearest(shapely.points(xy), return_distance=True, all_matches=False)
+        return d
 
-        Asked where a piece comes nearer than r to ``edges`` of the buffered shrink or grow but to no
-        known centre (`_candidate`), once the finish has settled among the known ones (``rescuing``). The
-        exact centres of that side within r of the piece are found from S's features (`_centres_near`;
-        the places searched before are skipped) and all new ones are added to the context.
-        """
-        if not self.rescuing:
-            return None
-        a, b, nxt, index = self._s_index()
-        r = self.r
-        x0, y0, x1, y1 = self.S.bounds
-        scale = max(x1 - x0, y1 - y0, r)
-        out = None
-        for side in sorted({int(self.okind[e]) for e in edges}):
-            xy = _centres_near(geom, side, self.S, a, b, nxt, index, r, scale, self._searched[side])
-            known = self._kd[side][0]
-            if len(xy) and known is not None:
-                d, _ = known.query(xy)
-                xy = xy[d > 1e-10 * r]
-            if len(xy) == 0:
-                continue
-            n0 = len(self.cxy)
-            self._add_centres(xy, side)
-            new = np.arange(n0, len(self.cxy))
-            d = shapely.distance(geom, shapely.points(self.cxy[new]))
-            if d.min() < r - self.pen_center and (out is None or d.min() < out[1]):
-                out = (int(new[np.argmin(d)]), float(d.min()))
-        return None if out is None else out[0]
+    def in_regions(self, xy: np.ndarray) -> np.ndarray:
+        """Whether each point lies in the closed shrink of S (+1), of its complement (−1), or neither (0)."""
+        if len(xy) == 0:
+            return np.zeros(0, dtype=np.int8)
+        clear = self.clearance(xy) >= self.r - self.precision
+        inside = shapely.contains_xy(self.S, xy[:, 0], xy[:, 1])
+        return np.where(clear, np.where(inside, 1, -1), 0).astype(np.int8)
 
     def _add_centres(self, xy: np.ndarray, side: int) -> None:
         """Append exact centres of one side, and rebuild what is indexed on the centres."""
@@ -264,7 +270,7 @@ class _Context:
         self.ctree = shapely.STRtree(shapely.points(self.cxy)) if len(self.cxy) else None
         self._kd = {s: (cKDTree(self.cxy[self.cside == s]) if (self.cside == s).any() else None,
                         np.flatnonzero(self.cside == s)) for s in (1, -1)}
-        self.vertex_center = {(float(x), float(y)): i for i, (x, y) in enumerate(self.cxy.tolist())}
+        self.ckd = cKDTree(self.cxy) if len(self.cxy) else None
         self.cindex = PointIndex(self.cxy)
 
     def _s_index(self):
@@ -437,9 +443,9 @@ def _drop_indices(values: np.ndarray) -> np.ndarray:
 def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
     """Places where the loop enters the core or the anticore: list of (piece, candidate centre, side, where).
 
-    Two tests: a piece closer than r to another disk centre (exact: the centres are exact), and a piece
-    closer than r to an edge of the shrink or the grow (the flat parts of the core and fillet, known only
-    to the accuracy of the buffers, hence a looser threshold). ``where`` is 0 to insert the candidate after
+    Two tests, both exact: a piece closer than r to another disk centre, and a piece closer than r to a
+    piece of the exact shrink of S or of its complement (`offsets`; candidates from a proximity index of
+    chords, each decided by the closed-form piece distance). ``where`` is 0 to insert the candidate after
     disk ``piece // 2`` for a tangent piece; for an arc −1 to insert it before the arc's disk, +1 after.
 
     ``cache`` (a dict kept by the caller for one context) remembers the outcome for each piece by
@@ -448,7 +454,6 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
     """
     r = ctx.r
     thr_c = r - ctx.pen_center
-    thr_e = r - ctx.pen
     n = L.n
     n_centres = len(ctx.cxy)
     P, Q = L.tangent_points()
@@ -484,15 +489,10 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
         si, _ = ctx.cindex.near_segments(sp, sq, thr_c)
         for i in np.unique(si):
             flag(2 * int(seg_ids[i]) + 1, mid[i])
-        si, ei = ctx.oindex.near_segments(sp, sq, thr_e)
-        if len(si):
-            keep = _real_entries(ctx, shapely.linestrings(np.stack([sp[si], sq[si]], axis=1)), ei)
-            for i, e in zip(si[keep].tolist(), ei[keep].tolist()):
-                flag(2 * int(seg_ids[i]) + 1, mid[i], (e,))
-        inside_e = shapely.contains_xy(ctx.E, mid[:, 0], mid[:, 1]) if not ctx.E.is_empty \
-            else np.zeros(len(mid), bool)
-        outside_g = ~shapely.intersects_xy(ctx.G, mid[:, 0], mid[:, 1])
-        for i in np.flatnonzero(inside_e | outside_g):
+        si, ei = ctx.oindex.near_segments(sp, sq, thr_c + ctx.osag)
+        for i, e, _ in _exact_entries(ctx, lambda i: ("seg", (sp[i], sq[i])), si, ei, thr_c):
+            flag(2 * int(seg_ids[i]) + 1, mid[i], (e,))
+        for i in np.flatnonzero(ctx.in_regions(mid) != 0):
             flag(2 * int(seg_ids[i]) + 1, mid[i])
     # Arcs: points along each, tested against the other centres and the obstacle edges.
     if len(arcs):
@@ -506,11 +506,23 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
         keep = ci != L.cid[owner[pi]]
         for k in np.unique(pi[keep]):
             flag(2 * int(owner[k]), pts[k])
-        pi, ei, _ = ctx.oindex.near_points(pts, thr_e)
-        if len(pi):
-            keep = _real_entries(ctx, shapely.points(pts[pi]), ei)
-            for k, e in zip(pi[keep].tolist(), ei[keep].tolist()):
-                flag(2 * int(owner[k]), pts[k], (e,))
+        # The arc lies within its chords' sag of the chords through its samples and ends: the query on
+        # the chords is drawn that much wider, and each obstacle piece found is decided by its exact
+        # distance to the whole arc.
+        own_c = np.repeat(arcs, m)
+        first_c = np.repeat(np.cumsum(m) - m, m)
+        k_c = np.arange(len(own_c)) - first_c
+        t0, t1 = k_c / np.repeat(m, m), (k_c + 1) / np.repeat(m, m)
+        th0 = a0[own_c] + L.sweep[own_c] * t0
+        th1 = a0[own_c] + L.sweep[own_c] * t1
+        cp = np.column_stack([L.c[own_c, 0] + r * np.cos(th0), L.c[own_c, 1] + r * np.sin(th0)])
+        cq = np.column_stack([L.c[own_c, 0] + r * np.cos(th1), L.c[own_c, 1] + r * np.sin(th1)])
+        step = float((np.abs(L.sweep[arcs]) / m).max(initial=0.0))
+        reach = thr_c + ctx.osag + r * (1.0 - math.cos(0.5 * step)) + 1e-12 * r
+        pi, ei = ctx.oindex.near_segments(cp, cq, reach)
+        for k, e, x in _exact_entries(ctx, lambda i: ("arc", (L.c[i], r, a0[i], L.sweep[i])), own_c[pi], ei,
+                                      thr_c):
+            flag(2 * int(k), x, (e,))
     found: dict[int, tuple | None] = {}
     for piece in sorted(bad):
         found[piece] = None
@@ -548,32 +560,38 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
     return [(piece, *found[piece]) for piece in sorted(found) if found[piece] is not None]
 
 
-def _real_entries(ctx: _Context, pieces, edges) -> np.ndarray:
-    """Which (piece, obstacle edge) closeness reports can be real.
+def _exact_entries(ctx: _Context, piece_of, li: np.ndarray, ei: np.ndarray, thr: float):
+    """The (loop piece, obstacle edge, nearest point) where a loop piece truly comes nearer than ``thr`` to
+    the exact offset piece behind an obstacle edge.
 
-    The anticore lies outside S and the core inside it, so a piece can enter the anticore only at a point
-    outside S, and the core only at a point inside. The point of the piece nearest to the reported edge
-    tells; this removes the reports that come from the buffers' inaccuracy alone.
+    ``li``/``ei`` pair loop pieces (given by ``piece_of(i)``) with obstacle edges from a proximity query;
+    each (loop piece, exact piece) pair is decided once, by the closed-form distance (`piece_distance`).
     """
-    if len(edges) == 0:
-        return np.zeros(0, dtype=bool)
-    near = shapely.get_point(shapely.shortest_line(pieces, shapely.linestrings(ctx.oedges[edges])), 0)
-    xy = shapely.get_coordinates(near)
-    inside = shapely.contains_xy(ctx.S, xy[:, 0], xy[:, 1])
-    on_edge = shapely.dwithin(ctx.S_boundary, near, ZERO_SCALE)
-    kind = ctx.okind[edges]
-    return np.where(kind > 0, inside & ~on_edge, ~inside & ~on_edge)
+    out = []
+    if len(li) == 0:
+        return out
+    pj = ctx.opiece[ei]
+    order = np.lexsort((pj, li))
+    li, pj, ei = li[order], pj[order], ei[order]
+    first = np.ones(len(li), dtype=bool)
+    first[1:] = (li[1:] != li[:-1]) | (pj[1:] != pj[:-1])
+    for i, j, e in zip(li[first].tolist(), pj[first].tolist(), ei[first].tolist()):
+        d, x, _ = piece_distance(piece_of(i), ctx.opieces[j][1])
+        if d < thr:
+            out.append((i, e, x))
+    return out
 
 
 def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
     """The disk to add where a piece enters an obstacle, or None.
 
-    The deepest-entered other centre if there is one. Else the piece came nearer than r only to edges of
-    the buffered shrink or grow (``edges``), which are inexact (GEOS simplifies S by up to r/100, both
-    ways): an arc may enter the straight part joining its own centre to a corner at an end of those
-    edges, checked exactly (`_Context.joined`); otherwise the piece enters a corner the buffers lost, or
-    nothing. Once the loop has settled among the known centres, `_Context.rescue` decides which, from S
-    itself. A piece flagged for its midpoint alone takes the nearest centre.
+    The deepest-entered other centre if there is one. Else the piece came nearer than r only to straight
+    pieces or arcs of the exact shrink or grow (``edges``): the deepest point of such a region towards a
+    straight piece of the loop is one of its corners, so a piece that enters the region enters a corner
+    too, unless it enters only through an arc's own side: an arc may sweep past the straight piece that
+    joins its own centre to the next corner and enter the region between the two; that corner is the
+    disk to add, if the segment to it truly lies in the shrink (grow), i.e. clears S by r. A piece
+    flagged for its midpoint alone takes the nearest centre.
     """
     if ctx.ctree is None:
         return None
@@ -585,17 +603,12 @@ def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
             return int(near[np.argmin(d)])
     if edges:
         if shapely.get_type_id(geom) == 1:
-            # The deepest point of the shrink (grow) towards a straight piece is one of its corners: none
-            # known is entered, so it is a corner the buffers lost, or the edges were nearer than they are.
-            return ctx.rescue(geom, edges)
-        # An arc can also sweep past the straight edge that joins its own centre to the next corner, and
-        # enter the core or anticore between the two: that corner is the disk to add, if the segment to
-        # it truly lies in the shrink (grow), i.e. clears S by r.
+            return next(iter(_fallbacks(ctx, geom, own, edges, near)), None)
         (mine,) = own
         for ci in _fallbacks(ctx, geom, own, edges, near):
             if int(ctx.cside[ci]) == int(ctx.cside[mine]) and ctx.joined(mine, ci, geom):
                 return ci
-        return ctx.rescue(geom, edges)
+        return None
     return next(iter(_fallbacks(ctx, geom, own, edges, near)), None)
 
 
@@ -603,11 +616,9 @@ def _fallbacks(ctx: _Context, geom, own: set[int], edges, near: np.ndarray) -> l
     """Centres to try where none is entered: those at the ends of the crossed edges, else all near ones;
     nearest to ``geom`` first."""
     ends = []
-    for e in edges:
-        for p in ctx.oedges[e]:
-            ci = ctx.vertex_center.get((float(p[0]), float(p[1])))
-            if ci is not None and ci not in own:
-                ends.append(ci)
+    if edges and ctx.ckd is not None:
+        d, ci = ctx.ckd.query(ctx.oedges[list(edges)].reshape(-1, 2), distance_upper_bound=4.0 * ctx.pen_center)
+        ends = [int(c) for c, dd in zip(ci.tolist(), d.tolist()) if math.isfinite(dd) and int(c) not in own]
     pool = np.array(sorted(set(ends)), dtype=np.int64) if ends else near
     if len(pool) == 0:
         return []
@@ -642,11 +653,7 @@ def _insert_before(ctx: _Context, cid, side, disk: int, ci: int, s: int) -> bool
 
 def _finish(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray) -> _DiskLoop | None:
     """Exact tight loop from an approximate cyclic disk sequence: drop wrong turns, add missed contacts."""
-    ctx.rescuing = False
-    try:
-        return _finish_steps(ctx, cid, side, ref)
-    finally:
-        ctx.rescuing = False
+    return _finish_steps(ctx, cid, side, ref)
 
 
 def _finish_steps(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray) -> _DiskLoop | None:
@@ -691,12 +698,6 @@ def _finish_steps(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndar
             return loop
         seen.add(state)
         viol = _violations(ctx, loop, ctx.violation_cache)
-        if not viol and not ctx.rescuing:
-            # Settled among the known centres: look once more, now also for the centres the buffers lost
-            # where a piece enters them (`_Context.rescue`), and go on if one is found.
-            ctx.rescuing = True
-            ctx.violation_cache.clear()
-            viol = _violations(ctx, loop, ctx.violation_cache)
         if not viol:
             return loop
         # Insert the candidates, from the back so that earlier indices stay valid. A disk that pokes out
@@ -939,6 +940,58 @@ def _initial_rings(ctx: _Context, S_local, init: Init) -> list[np.ndarray]:
     return _rings(M)
 
 
+def _exact_depths(ctx: _Context, L: _DiskLoop, limit: float = 0.0) -> tuple[float, float]:
+    """How deep the loop enters the open core and the open anticore: ``r − distance`` to the exact shrink
+    of S (and of its complement), by exact piece-to-piece distances (no sampling), 0 where it stays out.
+
+    Candidates come from the obstacle index (the exact pieces, arcs by chords within ``osag``) queried with
+    the loop's segments and its arcs' chords, drawn wide by both sags; each (loop piece, exact piece) pair
+    is then solved in closed form (`_pieces.piece_distance`). Depths of at most ``limit`` are reported as
+    0. A piece lying wholly inside a region is caught by its middle.
+    """
+    r = ctx.r
+    depth = {1: 0.0, -1: 0.0}
+    pieces = [(k, g) for k, g, length in L.pieces() if length > 0 or k == "arc"]
+    if not pieces:
+        return 0.0, 0.0
+    step = math.pi / 64
+    sag = r * (1.0 - math.cos(0.5 * step))
+    mids, cp, cq, owner = [], [], [], []
+    for n, (kind, g) in enumerate(pieces):
+        if kind == "seg":
+            p, q = g
+            mids.append(0.5 * (p + q))
+            cp.append(p[None]), cq.append(q[None]), owner.append(n)
+        else:
+            c, rr, a0, sw = g
+            m = max(1, int(math.ceil(abs(sw) / step)))
+            th = a0 + sw * np.linspace(0.0, 1.0, m + 1)
+            pts = np.column_stack([c[0] + rr * np.cos(th), c[1] + rr * np.sin(th)])
+            mids.append(pts[m // 2] if m > 1 else 0.5 * (pts[0] + pts[-1]))
+            cp.append(pts[:-1]), cq.append(pts[1:])
+            owner += [n] * m
+    where = ctx.in_regions(np.array(mids))
+    for s in (1, -1):
+        if (where == s).any():
+            depth[s] = r
+    if len(ctx.oedges) == 0:
+        return depth[1], depth[-1]
+    owner = np.array(owner, dtype=np.int64)
+    reach = r - limit + ctx.osag + sag + 1e-12 * r
+    ci, ei = ctx.oindex.near_segments(np.concatenate(cp), np.concatenate(cq), reach)
+    li, pj = owner[ci], ctx.opiece[ei]
+    order = np.lexsort((pj, li))
+    li, pj = li[order], pj[order]
+    first = np.ones(len(li), dtype=bool)
+    first[1:] = (li[1:] != li[:-1]) | (pj[1:] != pj[:-1])
+    for i, j in zip(li[first].tolist(), pj[first].tolist()):
+        side, piece = ctx.opieces[j]
+        d, _, _ = piece_distance(pieces[i], piece)
+        if r - d > max(depth[side], limit):
+            depth[side] = r - d
+    return depth[1], depth[-1]
+
+
 # ---------------------------------------------------------------------------------------------------------
 # Public API
 # ---------------------------------------------------------------------------------------------------------
@@ -1099,13 +1152,13 @@ class Tightening:
 
     def _check_exact(self) -> list[str]:
         """Arcs on the right boundary, pieces inside the mortar, loops disjoint — in the local frame."""
+        problems = self._check_depths()
         if self._cache.get("_path") == "fast":
-            return self._check_fast()
+            return problems + self._check_fast()
         info = self._exact_context()
         if info is None:
-            return []
+            return problems
         ctx, disk_loops = info
-        problems = []
         for i, L in enumerate(disk_loops):
             if (L.cid < 0).any():
                 problems.append(f"(c) loop {i} has {int((L.cid < 0).sum())} arc(s) not centred on an arc centre "
@@ -1120,6 +1173,20 @@ class Tightening:
             problems.append("(b) two loops (or two parts of one) touch")
         return problems
 
+
+    def _check_depths(self) -> list[str]:
+        """(e) Every loop stays out of the open core and anticore, measured against S's exact offsets."""
+        if self._cache.get("_exact") is None:
+            return []
+        ctx, disk_loops = self._exact_context()
+        limit = max(VERIFY_DEPTH_R * ctx.r, 8.0 * ctx.precision)
+        problems = []
+        for i, L in enumerate(disk_loops):
+            core, anti = _exact_depths(ctx, L, limit)
+            for name, d in (("core", core), ("anticore", anti)):
+                if d > limit:
+                    problems.append(f"(e) loop {i} enters the open {name} by {d / ctx.r:.3g}·r (exact offsets)")
+        return problems
 
     def _check_fast(self) -> list[str]:
         """(b) and (c) for a result of the fast path, by its own exact tests.

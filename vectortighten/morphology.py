@@ -21,6 +21,7 @@ from shapely.geometry import MultiPolygon, Polygon, box
 from shapely.geometry.base import BaseGeometry
 
 from ._validation import check_radius, check_shape, check_tolerance, quad_segs_for
+from .tolerances import GUIDE_MISSING_R
 
 __all__ = [
     "anticore",
@@ -83,6 +84,13 @@ def _all_too_close(ring_coords: np.ndarray, boundary, distance: float) -> bool:
     if len(c) > _GHOST_SAMPLES:
         c = c[np.linspace(0, len(c) - 1, _GHOST_SAMPLES).astype(int)]
     return bool(shapely.dwithin(boundary, shapely.points(c), distance).all())
+
+
+def _exact(S: Polygonal, r: float, side: int):
+    """S's exact offsets of one side (`offsets.exact_offsets`): the judge of every core/anticore decision."""
+    from .offsets import exact_offsets
+
+    return exact_offsets(_orient(S), r, side)
 
 
 def _grow(S: Polygonal, r: float, q: int) -> Polygonal:
@@ -279,17 +287,34 @@ def _nudge(geom: Polygonal, S: Polygonal, into: bool) -> Polygonal:
 
 
 def _core(S: Polygonal, r: float, q: int) -> Polygonal:
+    """The core from GEOS's shrink, snapped onto the exact corners and given back the exact pieces GEOS
+    loses (parts exactly 2r wide, whose closed shrink is a centre line: `centers.missing_lines`)."""
+    from .centers import missing_lines
+
+    X = _exact(S, r, 1)
     E = _shrink(S, r, q)
-    if E.is_empty:
+    R = _grow_raw(E, r, q) if not E.is_empty else Polygon()
+    extra = missing_lines(X, E, r, GUIDE_MISSING_R, np.pi / (2 * q))
+    if extra is not None:
+        R = shapely.union(R, extra.buffer(r, quad_segs=q))
+    if R.is_empty:
         return Polygon()
-    R = _polygonal(shapely.intersection(_grow_raw(E, r, q), S))
+    R = _polygonal(shapely.intersection(R, S))
     return _orient(_nudge(R, S, into=True))
 
 
 def _fillet(S: Polygonal, r: float, q: int) -> Polygonal:
+    """The fillet from GEOS's grow, snapped onto the exact corners, with the gaps GEOS closes that an
+    r-disk passes (exactly 2r wide or wider by any margin: `centers.missing_lines`) opened again."""
+    from .centers import missing_lines
+
+    X = _exact(S, r, -1)
     G = _grow(S, r, q)
-    F = _polygonal(shapely.union(_shrink_raw(G, r, q), S))
-    return _orient(_nudge(F, S, into=False))
+    F = shapely.union(_shrink_raw(G, r, q), S)
+    extra = missing_lines(X, G, r, GUIDE_MISSING_R, np.pi / (2 * q))
+    if extra is not None:
+        F = shapely.difference(F, shapely.difference(extra.buffer(r, quad_segs=q), S))
+    return _orient(_nudge(_polygonal(F), S, into=False))
 
 
 def grow(S, r: float, *, tolerance: float | None = None) -> Polygonal:

@@ -252,9 +252,10 @@ class _Elements:
     def clearance(self, xy):
         """Distance of each point to S's boundary, and the nearest edge.
 
-        The edge whose middle is nearest gives an upper bound; where it is nearer than r − precision the
-        point is in that edge's capsule, and that is all the rounds need to know (the clearance returned
-        there is that bound). Elsewhere the R-tree finds the nearest edge exactly.
+        The edge whose middle is nearest (if that middle is nearer than r − precision) gives an upper
+        bound; where it is nearer than r − precision the point is in that edge's capsule, and that is all
+        the rounds need to know (the clearance returned there is that bound). Elsewhere the R-tree finds
+        the nearest edge exactly.
         """
         if self._kd is None:
             self._kd = cKDTree(0.5 * (self.a + self.b))
@@ -262,10 +263,15 @@ class _Elements:
         e = np.empty(len(xy), dtype=np.int64)
         if len(xy) == 0:
             return d, e
-        _, j = self._kd.query(xy)
-        dj = self._edge_distance(xy, j)
-        deep = dj < self.r - self.eps
-        d[deep], e[deep] = dj[deep], j[deep]
+        # An edge is no farther than its middle: a middle nearer than r − precision proves the point deep
+        # (and the bounded query stays cheap where every edge is far, as around a wide arc of a staircase).
+        dm, j = self._kd.query(xy, distance_upper_bound=self.r - self.eps)
+        found = np.flatnonzero(np.isfinite(dm))
+        deep = np.zeros(len(xy), dtype=bool)
+        dj = self._edge_distance(xy[found], j[found])
+        hit = dj < self.r - self.eps
+        deep[found[hit]] = True
+        d[found[hit]], e[found[hit]] = dj[hit], j[found[hit]]
         rest = np.flatnonzero(~deep)
         if len(rest):
             (_, er), dr = self.tree.query_nearest(shapely.points(xy[rest]), return_distance=True,
@@ -343,7 +349,51 @@ def _split(el, lo, hi, cut, tiny):
     return row[ok], b0[ok], b1[ok]
 
 
+def _uncovered(X, el, lo, hi, pi, pj):
+    """The parts of pieces ``(el, lo, hi)`` outside the open capsules of edges ``pj`` (paired with ``pi``).
+
+    Each pair's cuts split the piece into parts uniform for that capsule; those whose middle lies inside
+    it are taken. The taken intervals of each piece are merged (sorted by start, with a running maximum of
+    their ends), and the gaps between them are returned as ``(row, lo, hi)``; gaps no longer than the
+    precision are returned as points (``touch``: where two capsules just meet, or a capsule is tangent):
+    the closed rule may keep them as isolated points of the region.
+    """
+    k = len(el)
+    if len(pi):
+        row, b0, b1 = _split(el[pi], lo[pi], hi[pi], X.cuts(el[pi], pj), X.tiny)
+        pe, pr = el[pi][row], pi[row]
+        taken = X.inside_edge(X.points(pe, 0.5 * (b0 + b1)), pj[row])
+        pr, b0, b1 = pr[taken], b0[taken], b1[taken]
+    else:
+        pr, b0, b1 = np.zeros(0, np.int64), np.zeros(0), np.zeros(0)
+    # Every piece gets a sentinel interval at each end, so that the gaps are the spaces between
+    # consecutive intervals of the merged, sorted list.
+    idx = np.arange(k)
+    pr = np.concatenate([pr, idx, idx])
+    b0 = np.concatenate([b0, lo, hi])
+    b1 = np.concatenate([b1, lo, hi])
+    order = np.lexsort((b0, pr))
+    pr, b0, b1 = pr[order], b0[order], b1[order]
+    # Running maximum of the ends within each piece (a segmented scan by doubling: exact, O(n log n)).
+    reach = b1.copy()
+    shift = 1
+    while shift < len(reach):
+        same = pr[shift:] == pr[:-shift]
+        reach[shift:] = np.where(same, np.maximum(reach[shift:], reach[:-shift]), reach[shift:])
+        shift *= 2
+    same = pr[1:] == pr[:-1]
+    g0, g1, gr = reach[:-1][same], b0[1:][same], pr[1:][same]
+    tiny = X.tiny[el[gr]]
+    wide = g1 - g0 > tiny
+    near = ~wide & (g1 - g0 > -tiny)
+    inner = near & (g0 > lo[gr] + tiny) & (g1 < hi[gr] - tiny)
+    touch = X.points(el[gr[inner]], 0.5 * (g0[inner] + g1[inner]))
+    return (gr[wide], g0[wide], g1[wide]), touch
+
+
 _MAX_ROUNDS = 400
+_CLEAR_PIECE_R = 1.0 / 16.0     # longest piece (relative to r) cut against every capsule in reach …
+_SPLIT_MAX_R = 4.0              # … unless it is longer than this (relative to r), then it stays whole
 
 
 def exact_offsets(S, r: float, side: int = 1, _brute: bool = False) -> OffsetPieces:
@@ -423,27 +473,37 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False) -> OffsetPie
             gone = X.inside_edge(X.points(e2, 0.5 * (b0 + b1)), near[i][row]) | ((b0 <= tm) & (b1 >= tm))
             lonely += [X.points(e2[gone], b0[gone]), X.points(e2[gone], b1[gone])]
             nxt_el.append(e2[~gone]), nxt_lo.append(b0[~gone]), nxt_hi.append(b1[~gone])
-        # Pieces whose middle is clear: cut by every capsule within reach, then test each part.
+        # Pieces whose middle is clear: each capsule within reach takes the parts of the piece inside it
+        # (between two of its cuts, decided at the middle); what no capsule takes is the kept set.
         c = np.flatnonzero(~inside)
+        # A long clear piece is split and goes round again: an edge's capsule can reach it only within
+        # r of the piece, so the pieces cut against every capsule in reach are kept short (most of the
+        # parts then lie in their nearest capsule and go cheaply), and the reach queries stay small.
+        # (Pieces much longer than r — long edges — are left whole: few capsules reach them per length.)
+        size = X.length[el[c]] * (hi[c] - lo[c])
+        parts = np.ceil(size / (_CLEAR_PIECE_R * r)).astype(np.int64)
+        long_ = (parts > 1) & (size <= _SPLIT_MAX_R * r)
+        if long_.any():
+            lc, k = c[long_], parts[long_]
+            row = np.repeat(np.arange(len(lc)), k)
+            step = np.arange(len(row)) - np.repeat(np.cumsum(k) - k, k)
+            w = (hi[lc] - lo[lc]) / k
+            s0 = lo[lc][row] + w[row] * step
+            s1 = np.where(step == k[row] - 1, hi[lc][row], s0 + w[row])        # the last part ends exactly
+            nxt_el.append(el[lc][row]), nxt_lo.append(s0), nxt_hi.append(s1)
+            c = c[~long_]
         if len(c):
             g, sag = X.geoms(el[c], lo[c], hi[c])
             pi, pj = X.tree.query(g, predicate="dwithin", distance=r + sag + 4.0 * eps)
             own = (X.own[el[c][pi], 0] == pj) | (X.own[el[c][pi], 1] == pj)
             pi, pj = pi[~own], pj[~own]
-            ncut = np.bincount(pi, minlength=len(c))
-            width = max(1, int(ncut.max(initial=0)))
-            cut = np.full((len(c), 8 * width), np.nan)
-            if len(pi):
-                order = np.argsort(pi, kind="stable")
-                pi, pj = pi[order], pj[order]
-                slot = np.arange(len(pi)) - np.repeat(np.cumsum(ncut) - ncut, ncut)
-                C = X.cuts(el[c][pi], pj)
-                for q in range(8):
-                    cut[pi, 8 * slot + q] = C[:, q]
-            row, b0, b1 = _split(el[c], lo[c], hi[c], cut, X.tiny)
+            gaps, touch = _uncovered(X, el[c], lo[c], hi[c], pi, pj)
+            lonely.append(touch)
+            row, b0, b1 = gaps
             e2 = el[c][row]
-            # Each part is now uniform: clear parts are decided (kept on the side's side of S, else
-            # dropped: offsets of a part thinner than 2r that left it); the others go round again.
+            # Each gap lies outside every capsule in reach: clear parts are decided (kept on the side's
+            # side of S, else dropped: offsets of a part thinner than 2r that left it); a part that
+            # rounding leaves undecided goes round again.
             xy = X.points(e2, 0.5 * (b0 + b1))
             d2 = X.clearance(xy)[0]
             clear = d2 >= r - eps
@@ -469,11 +529,13 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False) -> OffsetPie
         hi_t = np.maximum.reduceat(hi_t, np.flatnonzero(start))
         sub_el = sub_el[start]
     # Corners: ends of kept pieces at a cut (not at an element's own end); isolated points of the region
-    # (an end of a removed part that is itself kept: the centre of a square of side 2r, or where two
-    # capsules just touch); …
-    lonely = np.concatenate(lonely) if lonely else np.zeros((0, 2))
+    # (an end of a removed part that is itself kept and lies on no kept piece: the centre of a square of
+    # side 2r, or where two capsules just touch); …
+    lonely = np.unique(np.concatenate(lonely), axis=0) if lonely else np.zeros((0, 2))
+    lonely = lonely[X.kept(lonely)]
+    lonely = lonely[~_on_pieces(X, sub_el, lo_t, hi_t, lonely, 4.0 * eps)]
     corner_pts = [X.points(sub_el[lo_t > 0], lo_t[lo_t > 0]), X.points(sub_el[hi_t < 1], hi_t[hi_t < 1]),
-                  lonely[X.kept(lonely)]]
+                  lonely]
     # … and the vertices where the offsets of two edges meet at an angle at an element's end (a convex
     # corner so nearly straight that the crossing falls within the precision of the ends).
     at_end = sub_el[(sub_el < X.n_seg) & (hi_t >= 1)]
@@ -494,6 +556,36 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False) -> OffsetPie
         side=side, r=r, seg=seg_out, seg_edge=se.astype(np.int64),
         arc_center=X.arc_v[ka], arc_start=X.arc_a0[ka] + X.arc_sw[ka] * lo_t[~s],
         arc_sweep=X.arc_sw[ka] * (hi_t[~s] - lo_t[~s]), corners=corners, precision=eps)
+
+
+def _on_pieces(X, el, lo, hi, xy, tol) -> np.ndarray:
+    """Whether each point lies within ``tol`` of one of the kept pieces ``(el, lo, hi)`` (exactly)."""
+    if len(xy) == 0 or len(el) == 0:
+        return np.zeros(len(xy), dtype=bool)
+    g, sag = X.geoms(el, lo, hi)
+    pi, pj = shapely.STRtree(g).query(shapely.points(xy), predicate="dwithin", distance=tol + sag)
+    if len(pi) == 0:
+        return np.zeros(len(xy), dtype=bool)
+    e, a, b = el[pj], lo[pj], hi[pj]
+    s = e < X.n_seg
+    d = np.empty(len(pi))
+    if s.any():
+        p, q = X.points(e[s], a[s]), X.points(e[s], b[s])
+        v = q - p
+        L2 = (v * v).sum(axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u = np.clip(((xy[pi[s]] - p) * v).sum(axis=1) / L2, 0.0, 1.0)
+        f = p + np.where(L2 > 0, u, 0.0)[:, None] * v
+        d[s] = np.hypot(*(xy[pi[s]] - f).T)
+    if (~s).any():
+        k = e[~s] - X.n_seg
+        w = xy[pi[~s]] - X.arc_v[k]
+        t = _arc_param(np.arctan2(w[:, 1], w[:, 0]), X.arc_a0[k], X.arc_sw[k])
+        t = np.clip(t, a[~s], b[~s])
+        d[~s] = np.hypot(*(xy[pi[~s]] - X.points(e[~s], t)).T)
+    out = np.zeros(len(xy), dtype=bool)
+    out[pi[d <= tol]] = True
+    return out
 
 
 def _distinct(xy: np.ndarray, tol: float) -> np.ndarray:

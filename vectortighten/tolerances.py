@@ -10,10 +10,13 @@ __all__ = [
     "DEFAULT_TOLERANCE_R",
     "DOMAIN_CHORD_R",
     "EXACT_CHORD_R",
+    "GUIDE_MISSING_R",
     "MAX_QUAD_SEGS",
+    "OBSTACLE_SAG_R",
     "PENETRATION_R",
     "THICKEN_R",
     "TOUCH_SCALE",
+    "VERIFY_DEPTH_R",
     "ZERO_SCALE",
 ]
 
@@ -60,3 +63,17 @@ CENTER_SEARCH_R = 1e-4
 #: so that the free space still holds the exact mortar. The free space's size, and so the cost of
 #: triangulating it and of the sleeves and funnels on it, grows as the inverse square root of this.
 DOMAIN_CHORD_R = 0.5 * THICKEN_R
+
+# The exact offsets' arcs stand in the finish's proximity index as chords with at most this sag (relative
+# to r); the queries are drawn this much wider and every find is decided by the exact distance to the arc,
+# so the sag costs only candidates, never exactness.
+OBSTACLE_SAG_R = 1e-6
+
+# The search's guide (GEOS's core and fillet) is given back the exact offset pieces that lie farther than
+# this (relative to r) from GEOS's buffers: parts exactly 2r wide, and gaps exactly 2r wide. Nearer ones
+# are GEOS's simplification (up to about r/100), which the exact finish corrects on its own.
+GUIDE_MISSING_R = 0.02
+
+# `verify()` reports a loop that comes nearer than r to the exact shrink of S or of its complement by more
+# than this (relative to r; at least a few units in the last place of the coordinates).
+VERIFY_DEPTH_R = 1e-9
