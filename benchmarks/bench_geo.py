@@ -146,6 +146,11 @@ def timed_workers(fn):
                 except OSError:
                     continue
                 for pid in pids:
+                    try:         # the workers, not multiprocessing's resource tracker
+                        if b"spawn_main" not in Path(f"/proc/{pid}/cmdline").read_bytes():
+                            continue
+                    except OSError:
+                        continue
                     got = schedstat(pid)
                     if got is not None:
                         last[int(pid)] = got
