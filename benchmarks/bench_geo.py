@@ -12,6 +12,8 @@ Timed in the same process, alternately:
   whole array, with the ``quad_segs`` that the tolerance (1e-5·r) gives — the opening and closing at the
   engine's precision; also at shapely's default ``quad_segs`` (8) for reference;
 * ``vectortighten.tighten_all(a, r)`` serially and with ``processes=2``;
+* on the first ``--paired`` features, block by block, the baseline right before the serial engine: the
+  ratio of the two with both under the same load (the steadiest figure on a shared machine);
 * on the first ``--loop`` features, a plain Python loop of ``vt.tighten(g, r).geometry`` against
   ``tighten_all`` of the same features: what the vectorised wrapper itself costs.
 
@@ -25,7 +27,8 @@ time waiting for a core estimates what two idle cores would give. Medians of ``-
 baseline and the loop comparison; the engine runs take minutes, so they run ``--engine-repeats`` times
 (default 1). ``--profile K`` profiles the serial engine on K features and prints where the time goes.
 
-Run:  python benchmarks/bench_geo.py [--n 10000] [--repeats 3] [--engine-repeats 1] [--profile 300]
+Run:  python benchmarks/bench_geo.py [--n 10000] [--repeats 3] [--engine-repeats 1] [--paired 1000]
+      [--profile 300]
 It prints a markdown report and writes it to benchmarks/results/geo.md.
 """
 
@@ -179,6 +182,21 @@ def idle_estimate(run: dict) -> float:
     return run["wall"] - min(waits) if waits else float("nan")
 
 
+def paired(a: np.ndarray, r: float, q: int, k: int, block: int = 100, repeats: int = 3):
+    """CPU seconds of the baseline and of serial `tighten_all` on the first k features, block by block.
+
+    Each block of ``block`` features is timed with the baseline (median of ``repeats``) right before the
+    engine, so both see the same load on the machine: on a shared machine a core's speed moves by 2× over
+    minutes (another process on its hyper-thread), and a ratio of two runs minutes apart moves with it.
+    """
+    base = engine = 0.0
+    for s in range(0, min(k, len(a)), block):
+        part = a[s:s + block]
+        base += statistics.median(timed(lambda: opening_closing(part, r, q))[0] for _ in range(repeats))
+        engine += timed(quiet(lambda: vt.tighten_all(part, r)))[0]
+    return base, engine
+
+
 def quiet(fn):
     def run():
         with warnings.catch_warnings():
@@ -205,6 +223,8 @@ def main(argv=None) -> int:
     ap.add_argument("--engine-repeats", type=int, default=1)
     ap.add_argument("--loop", type=int, default=500)
     ap.add_argument("--profile", type=int, default=0)
+    ap.add_argument("--paired", type=int, default=1000,
+                    help="features timed block by block against the baseline (0: none)")
     ap.add_argument("--out", type=Path, default=HERE / "results" / "geo.md")
     args = ap.parse_args(argv)
     r = args.r
@@ -234,6 +254,7 @@ def main(argv=None) -> int:
         t_loop.append(timed(quiet(lambda: [vt.tighten(g, r).geometry for g in a[:m]]))[0])
         t_all.append(timed(quiet(lambda: vt.tighten_all(a[:m], r)))[0])
     t_loop, t_all = statistics.median(t_loop), statistics.median(t_all)
+    pb, pe = paired(a, r, q, args.paired) if args.paired else (float('nan'), float('nan'))
     paths = {"fast": 0, "convex": 0, "general": 0}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -292,6 +313,10 @@ def main(argv=None) -> int:
         f"share one fair share of the cores, so on a busy machine more processes do not get more CPU). The "
         f"workers' CPU over the serial run's: {p_cpu / s_cpu:.2f}. Identical geometries serially and in "
         f"parallel: yes (checked).",
+        "",
+        f"Paired ratio (the first {min(args.paired, n)} footprints in blocks of 100, the baseline timed "
+        f"right before the engine on each block, so both see the same load): baseline {pb:.2f} s, "
+        f"tighten_all {pe:.1f} s, ratio **{pe / pb:.1f}** (CPU / CPU).",
         "",
         f"Wrapper overhead, first {m} footprints: loop of `vt.tighten(g, r).geometry` {t_loop:.2f} s, "
         f"`tighten_all` {t_all:.2f} s ({100 * (t_all / t_loop - 1):+.1f} %).",
