@@ -12,16 +12,23 @@ Timed in the same process, alternately:
   whole array, with the ``quad_segs`` that the tolerance (1e-5·r) gives — the opening and closing at the
   engine's precision; also at shapely's default ``quad_segs`` (8) for reference;
 * ``vectortighten.tighten_all(a, r)`` serially and with ``processes=2``;
+* on the first ``--paired`` features, block by block, the baseline right before the serial engine: the
+  ratio of the two with both under the same load (the steadiest figure on a shared machine);
 * on the first ``--loop`` features, a plain Python loop of ``vt.tighten(g, r).geometry`` against
   ``tighten_all`` of the same features: what the vectorised wrapper itself costs.
 
-CPU seconds of this process for the baseline, the serial runs and the loop (the machine is shared, and
-its wall clock moves with the other work); wall-clock seconds for ``processes=2``, with the CPU seconds
-its two workers spent. Medians of ``--repeats`` for the baseline and the loop comparison; the engine runs
-take minutes, so they run ``--engine-repeats`` times (default 1). ``--profile K`` profiles the serial
-engine on K features and prints where the time goes.
+CPU seconds of this process for the baseline and the loop. The engine runs are measured three ways: CPU
+seconds (of this process serially, of the two workers with ``processes=2``), wall-clock seconds, and the
+seconds each process spent runnable but waiting for a core (Linux schedstat). On a shared machine the
+wall clock of ``processes=2`` says little by itself: with the kernel's autogroup scheduling (on by
+default on desktop Linux) all processes of one session share one session's fair share of the cores, so
+two workers get no more CPU than one process would while other sessions are busy. Wall clock less the
+time waiting for a core estimates what two idle cores would give. Medians of ``--repeats`` for the
+baseline and the loop comparison; the engine runs take minutes, so they run ``--engine-repeats`` times
+(default 1). ``--profile K`` profiles the serial engine on K features and prints where the time goes.
 
-Run:  python benchmarks/bench_geo.py [--n 10000] [--repeats 3] [--engine-repeats 1] [--profile 300]
+Run:  python benchmarks/bench_geo.py [--n 10000] [--repeats 3] [--engine-repeats 1] [--paired 1000]
+      [--profile 300]
 It prints a markdown report and writes it to benchmarks/results/geo.md.
 """
 
@@ -29,12 +36,14 @@ from __future__ import annotations
 
 import argparse
 import cProfile
+import glob
 import io
 import os
 import platform
 import pstats
 import statistics
 import sys
+import threading
 import time
 import warnings
 from pathlib import Path
@@ -94,17 +103,98 @@ def timed(fn, clock=time.process_time):
     return clock() - t, out
 
 
+def schedstat(pid: int | str = "self") -> tuple[float, float] | None:
+    """CPU seconds and run-queue seconds (runnable, waiting for a core) of a process's threads so far.
+
+    From Linux's ``/proc/PID/task/*/schedstat``; None where it cannot be read (another system).
+    """
+    run = wait = 0
+    found = False
+    for f in glob.glob(f"/proc/{pid}/task/*/schedstat"):
+        try:
+            a, b, _ = Path(f).read_text().split()
+        except (OSError, ValueError):
+            continue
+        run, wait, found = run + int(a), wait + int(b), True
+    return (run / 1e9, wait / 1e9) if found else None
+
+
+def timed_serial(fn):
+    """``fn()`` in this process: its CPU, wall-clock and run-queue seconds, and what it returned."""
+    s0, c0, t0 = schedstat(), time.process_time(), time.perf_counter()
+    out = fn()
+    wall, cpu, s1 = time.perf_counter() - t0, time.process_time() - c0, schedstat()
+    wait = s1[1] - s0[1] if s0 and s1 else float("nan")
+    return {"wall": wall, "cpu": cpu, "wait": [wait]}, out
+
+
 def timed_workers(fn):
-    """Wall-clock seconds of ``fn`` and the CPU seconds of the worker processes it started and joined."""
+    """``fn()`` that starts and joins worker processes: wall-clock seconds, the workers' CPU seconds and
+    each worker's run-queue seconds (its schedstat, polled every 20 ms while it lives), and its result."""
     import resource
 
-    def children():
+    def children_cpu():
         u = resource.getrusage(resource.RUSAGE_CHILDREN)
         return u.ru_utime + u.ru_stime
 
-    c0, t0 = children(), time.perf_counter()
-    out = fn()
-    return time.perf_counter() - t0, children() - c0, out
+    me = os.getpid()
+    last: dict[int, tuple[float, float]] = {}
+    stop = threading.Event()
+
+    def poll():
+        while not stop.is_set():
+            for f in glob.glob(f"/proc/{me}/task/*/children"):
+                try:
+                    pids = Path(f).read_text().split()
+                except OSError:
+                    continue
+                for pid in pids:
+                    try:         # the workers, not multiprocessing's resource tracker
+                        if b"spawn_main" not in Path(f"/proc/{pid}/cmdline").read_bytes():
+                            continue
+                    except OSError:
+                        continue
+                    got = schedstat(pid)
+                    if got is not None:
+                        last[int(pid)] = got
+            stop.wait(0.02)
+
+    watcher = threading.Thread(target=poll, daemon=True)
+    c0, t0 = children_cpu(), time.perf_counter()
+    watcher.start()
+    try:
+        out = fn()
+    finally:
+        stop.set()
+        watcher.join()
+    wall = time.perf_counter() - t0
+    return {"wall": wall, "cpu": children_cpu() - c0, "wait": [w for _, w in last.values()]}, out
+
+
+def idle_estimate(run: dict) -> float:
+    """Wall-clock seconds less the least run-queue wait of the process(es) that did the work.
+
+    What the run would take if no other process had held the cores it waited for: every worker waits
+    for a core at least that long, and the wall clock ends with the last of them. An estimate (it
+    ignores that cores shared by hyper-threads or memory bandwidth slow each other).
+    """
+    waits = [w for w in run["wait"] if w == w]
+    return run["wall"] - min(waits) if waits else float("nan")
+
+
+def paired(a: np.ndarray, r: float, q: int, k: int, block: int = 100, repeats: int = 3):
+    """CPU seconds of the baseline and of serial `tighten_all` on the first k features, block by block.
+
+    Each block of ``block`` features is timed with the baseline (median of ``repeats``) right before the
+    engine, so both see the same load on the machine: on a shared machine a core's speed moves by 2× over
+    minutes (another process on its hyper-thread), and a ratio of two runs minutes apart moves with it.
+    """
+    base = engine = 0.0
+    for s in range(0, min(k, len(a)), block):
+        part = a[s:s + block]
+        base += statistics.median(timed(lambda: opening_closing(part, r, q))[0] for _ in range(repeats))
+        engine += timed(quiet(lambda: vt.tighten_all(part, r)))[0]
+    return base, engine
 
 
 def quiet(fn):
@@ -133,6 +223,8 @@ def main(argv=None) -> int:
     ap.add_argument("--engine-repeats", type=int, default=1)
     ap.add_argument("--loop", type=int, default=500)
     ap.add_argument("--profile", type=int, default=0)
+    ap.add_argument("--paired", type=int, default=1000,
+                    help="features timed block by block against the baseline (0: none)")
     ap.add_argument("--out", type=Path, default=HERE / "results" / "geo.md")
     args = ap.parse_args(argv)
     r = args.r
@@ -140,28 +232,29 @@ def main(argv=None) -> int:
     nv = shapely.get_num_coordinates(a)
     q = quad_segs_for(r, 1e-5 * r)
 
-    base, base_default, serial, spread, spread_cpu = [], [], [], [], []
+    base, base_default, serial, spread = [], [], [], []
     load = [os.getloadavg()[0]]
     for k in range(max(args.repeats, args.engine_repeats)):
         if k < args.repeats:
             base.append(timed(lambda: opening_closing(a, r, q))[0])
             base_default.append(timed(lambda: opening_closing(a, r, 8))[0])
         if k < args.engine_repeats:
-            t, out = timed(quiet(lambda: vt.tighten_all(a, r)))
-            serial.append(t)
-            t, c, out2 = timed_workers(quiet(lambda: vt.tighten_all(a, r, processes=2)))
-            spread.append(t)
-            spread_cpu.append(c)
+            run, out = timed_serial(quiet(lambda: vt.tighten_all(a, r)))
+            serial.append(run)
+            run, out2 = timed_workers(quiet(lambda: vt.tighten_all(a, r, processes=2)))
+            spread.append(run)
             load.append(os.getloadavg()[0])
             assert [shapely.to_wkb(g) for g in out] == [shapely.to_wkb(g) for g in out2]
-        print(f"run {k + 1}: baseline {base[-1]:.2f} s" + (f", serial {serial[-1]:.1f} s, processes=2 "
-              f"{spread[-1]:.1f} s" if k < args.engine_repeats else ""), file=sys.stderr, flush=True)
+        print(f"run {k + 1}: baseline {base[-1]:.2f} s" + (
+              f", serial {serial[-1]['cpu']:.1f} s cpu {serial[-1]['wall']:.1f} s wall, processes=2 "
+              f"{spread[-1]['wall']:.1f} s wall" if k < args.engine_repeats else ""), file=sys.stderr, flush=True)
     m = args.loop
     t_loop, t_all = [], []
     for _ in range(args.repeats):
         t_loop.append(timed(quiet(lambda: [vt.tighten(g, r).geometry for g in a[:m]]))[0])
         t_all.append(timed(quiet(lambda: vt.tighten_all(a[:m], r)))[0])
     t_loop, t_all = statistics.median(t_loop), statistics.median(t_all)
+    pb, pe = paired(a, r, q, args.paired) if args.paired else (float('nan'), float('nan'))
     paths = {"fast": 0, "convex": 0, "general": 0}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -169,36 +262,64 @@ def main(argv=None) -> int:
             paths[vt.tighten(g, r)._cache["_path"]] += 1
     empty = int(sum(g.is_empty for g in out))
 
-    b, bd, s, p, pc = (statistics.median(x) for x in (base, base_default, serial, spread, spread_cpu))
+    def med(runs, key):
+        return statistics.median(key(x) for x in runs)
+
+    b, bd = statistics.median(base), statistics.median(base_default)
+    s_cpu, s_wall, s_idle = (med(serial, lambda x: x["cpu"]), med(serial, lambda x: x["wall"]),
+                             med(serial, idle_estimate))
+    p_cpu, p_wall, p_idle = (med(spread, lambda x: x["cpu"]), med(spread, lambda x: x["wall"]),
+                             med(spread, idle_estimate))
+    s_wait = med(serial, lambda x: x["wait"][0])
+    p_wait = [statistics.median(x["wait"][k] for x in spread if len(x["wait"]) > k)
+              for k in range(min(len(x["wait"]) for x in spread))]
+    try:
+        autogroup = Path("/proc/sys/kernel/sched_autogroup_enabled").read_text().strip() == "1"
+    except OSError:
+        autogroup = None
     n = args.n
+    waits = ", ".join(f"{w:.1f}" for w in p_wait) or "n/a"
     lines = [
         "# tighten_all on building footprints vs shapely's vectorised opening + closing",
         "",
         f"Machine: {platform.machine()}, {os.cpu_count()} cores (shared with other work while this ran), "
         f"Python {platform.python_version()}, shapely {shapely.__version__} "
-        f"(GEOS {shapely.geos_version_string}). "
-        f"CPU seconds (wall-clock for processes=2); baseline medians of {args.repeats}, engine runs "
-        f"{args.engine_repeats}; 1-minute load average {min(load):.1f}–{max(load):.1f} during the runs. "
-        f"Command: `python benchmarks/bench_geo.py --n {n} --repeats {args.repeats} "
-        f"--engine-repeats {args.engine_repeats} --loop {m}`.",
+        f"(GEOS {shapely.geos_version_string}). Baseline: CPU seconds, medians of {args.repeats}; engine "
+        f"runs: medians of {args.engine_repeats}, serial and processes=2 alternately; 1-minute load average "
+        f"{min(load):.1f}–{max(load):.1f} during the runs. Command: `python benchmarks/bench_geo.py --n {n} "
+        f"--repeats {args.repeats} --engine-repeats {args.engine_repeats} --loop {m}`.",
         "",
         f"Dataset: {n} footprints (seed 0), {int(nv.sum())} vertices, {int(np.median(nv))} per footprint "
         f"(5–95 %: {int(np.percentile(nv, 5))}–{int(np.percentile(nv, 95))}); r = {r:g} m, tolerance 1e-5·r "
         f"(quad_segs {q} for the baseline). {empty} footprints vanish (no 2r-wide part). Engine path on the "
         f"first {m}: {paths['fast']} fast, {paths['convex']} convex (closed form), {paths['general']} general.",
         "",
-        f"| run | time (s) | features/s | ratio to opening + closing (quad_segs {q}) |",
-        "|---|---:|---:|---:|",
-        f"| shapely opening + closing, quad_segs {q} (baseline) | {b:.2f} cpu | {n / b:,.0f} | 1 |",
-        f"| shapely opening + closing, quad_segs 8 (default) | {bd:.2f} cpu | {n / bd:,.0f} | {bd / b:.2f} |",
-        f"| tighten_all, serial | {s:.1f} cpu | {n / s:,.0f} | {s / b:.0f} |",
-        f"| tighten_all, processes=2 | {p:.1f} wall ({pc:.0f} cpu in the workers) | {n / p:,.0f} | "
-        f"{p / b:.0f} (wall / cpu) |",
+        f"| run | CPU (s) | wall (s) | waiting for a core (s) | wall − wait (s) | features/s | ratio to "
+        f"opening + closing (quad_segs {q}) |",
+        "|---|---:|---:|---:|---:|---:|---:|",
+        f"| shapely opening + closing, quad_segs {q} (baseline) | {b:.2f} | | | | {n / b:,.0f} (cpu) | 1 |",
+        f"| shapely opening + closing, quad_segs 8 (default) | {bd:.2f} | | | | {n / bd:,.0f} (cpu) | "
+        f"{bd / b:.2f} |",
+        f"| tighten_all, serial | {s_cpu:.1f} | {s_wall:.1f} | {s_wait:.1f} | {s_idle:.1f} | "
+        f"{n / s_cpu:,.0f} (cpu) | {s_cpu / b:.1f} (cpu / cpu) |",
+        f"| tighten_all, processes=2 | {p_cpu:.1f} (workers) | {p_wall:.1f} | {waits} (per worker) | "
+        f"{p_idle:.1f} | {n / p_idle:,.0f} (wall − wait) | {p_idle / b:.1f} (wall − wait / cpu) |",
+        "",
+        f"processes=2 against serial: wall clock {s_wall / p_wall:.2f}× as fast as measured; cores used "
+        f"(CPU / wall) {s_cpu / s_wall:.2f} serially and {p_cpu / p_wall:.2f} by the two workers; "
+        f"{s_idle / p_idle:.2f}× with the time spent waiting for a core taken out (`idle_estimate`: what "
+        f"two idle cores would give; an estimate, not a measurement). Kernel autogroup scheduling: "
+        f"{ {True: 'on', False: 'off', None: 'unknown'}[autogroup] } (when on, the processes of one session "
+        f"share one fair share of the cores, so on a busy machine more processes do not get more CPU). The "
+        f"workers' CPU over the serial run's: {p_cpu / s_cpu:.2f}. Identical geometries serially and in "
+        f"parallel: yes (checked).",
+        "",
+        f"Paired ratio (the first {min(args.paired, n)} footprints in blocks of 100, the baseline timed "
+        f"right before the engine on each block, so both see the same load): baseline {pb:.2f} s, "
+        f"tighten_all {pe:.1f} s, ratio **{pe / pb:.1f}** (CPU / CPU).",
         "",
         f"Wrapper overhead, first {m} footprints: loop of `vt.tighten(g, r).geometry` {t_loop:.2f} s, "
-        f"`tighten_all` {t_all:.2f} s ({100 * (t_all / t_loop - 1):+.1f} %). Parallel speed-up with two "
-        f"processes: {s / p:.2f}× (serial cpu / parallel wall; the workers' cpu over the serial: "
-        f"{pc / s:.2f}). Identical geometries serially and in parallel: yes (checked).",
+        f"`tighten_all` {t_all:.2f} s ({100 * (t_all / t_loop - 1):+.1f} %).",
         "",
     ]
     if args.profile:

@@ -84,6 +84,7 @@ def load_revision(rev: str):
     path.write_text(src)
     spec = importlib.util.spec_from_file_location("geodesic_baseline", path)
     mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod       # dataclasses look their module up while the class is made
     spec.loader.exec_module(mod)
     return mod
 

@@ -173,7 +173,7 @@ def _one_walk(T, ring):
     return np.array(e, dtype=np.int64), np.array(lw, dtype=bool)
 
 
-@pytest.mark.parametrize("chunk, locate, min_active", [(16, 24, 16), (2, 1, 0), (3, 0, 1), (1, 8, 1000)])
+@pytest.mark.parametrize("chunk, locate, min_active", [(4, 24, 16), (16, 24, 16), (2, 1, 0), (3, 0, 1), (1, 8, 1000)])
 def test_crossings_are_the_single_walk(monkeypatch, chunk, locate, min_active):
     # Chunks that start at badly located points, long Python tails, chunks walked again: the result is
     # always the one-walker walk's.

@@ -21,7 +21,11 @@ counts them). Warnings that the engine gives for single features (`ConvergenceWa
 into one per kind, with the count and the first features concerned.
 
 ``processes=N`` spreads the features over N worker processes (fresh interpreters; features are sent in
-chunks balanced by vertex count). It pays off from a few seconds of work; a dask cluster scales further.
+chunks balanced by vertex count; one pool for the call). It pays off from a few seconds of work on idle
+cores; a dask cluster scales further. On Linux with autogroup scheduling (the default on desktops) the
+processes started from one terminal session share that session's fair share of the CPU, so while other
+sessions keep the cores busy, more processes get no more CPU than one (``benchmarks/bench_geo.py``
+measures both).
 A worker that dies (the out-of-memory killer) fails the features of its own chunk only (with
 ``errors="warn"`` they get an empty geometry and are counted; with ``"raise"`` the first is named), and
 Ctrl-C terminates every worker at once (`vectortighten._workers`).
@@ -472,8 +476,9 @@ def tighten_all(geometries, r: float, *, init: str | Init = "core", tolerance: f
     tolerance : float, optional
         Largest distance between an arc and its chords in each output geometry; default 1e-5·r.
     processes : int, optional
-        Worker processes to spread the features over; default one (this process). Ignored for a dask
-        collection, whose scheduler decides.
+        Worker processes to spread the features over; default one (this process). Each costs an
+        interpreter's start (about 0.6 s of CPU); they gain on idle cores only (see the module's notes on
+        a busy machine). Ignored for a dask collection, whose scheduler decides.
     errors : {"raise", "warn"}
         A feature the engine fails on raises its error, naming the feature (``"raise"``), or is given an
         empty geometry and counted in a `FeatureErrorWarning` (``"warn"``).
