@@ -38,7 +38,7 @@ import numpy as np
 from scipy import ndimage
 
 from ._checks import check_mask, check_radius
-from .morphology import _core_fillet, mason, vanishes
+from .morphology import _core_fillet_both, mason, vanishes
 from .mpp import mpp_finish
 
 __all__ = ["NotConvergedWarning", "RasterTightening", "default_levels", "signed_distance", "tighten"]
@@ -103,6 +103,9 @@ class RasterTightening:
     converged: list = field(default_factory=list)
     budget: str = "until rest"
     finish: str = "none"
+    #: With the minimum-perimeter finish, its loops (polygons, x = column, y = −row): the exact boundary
+    #: the mask samples, which `raster.contours` returns instead of tracing Φ (None: trace Φ).
+    curves: object = None
 
     @property
     def is_converged(self) -> bool:
@@ -741,7 +744,7 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
     levels = int(levels)
     timings = {}
     t0 = time.perf_counter()
-    R, F = _core_fillet(M, r)
+    R, F, R_c, F_c, sd_R, sd_A = _core_fillet_both(M, r)
     timings["morphology"] = time.perf_counter() - t0
     if vanishes(M, r):        # no disk of radius r fits: every tightening is empty, at once
         timings["total"] = time.perf_counter() - t_start
@@ -754,11 +757,14 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
     # The constraints: Φ < 0 in the core and > 0 in the anticore, for good. There Φ is the signed distance
     # to the constraint's own edge (−½ and +½ on its first pixels), not to the initial set: a front that
     # reaches the anticore then sees it as a boundary half a pixel away, and settles against it.
+    # On a constraint's edge Φ is the signed distance to its sub-pixel edge (`_core_fillet_both`): half a
+    # pixel on a straight edge, a fraction where an arc barely covers a lone stair pixel (there the square
+    # would hold the front 0.7 px beyond the arc).
     if R.any():
-        phi0[R] = 0.5 - ndimage.distance_transform_edt(R)[R]
+        phi0[R] = np.maximum(0.5 - ndimage.distance_transform_edt(R)[R], sd_R[R])
     if not F.all():
         A = ~F
-        phi0[A] = ndimage.distance_transform_edt(A)[A] - 0.5
+        phi0[A] = np.minimum(ndimage.distance_transform_edt(A)[A] - 0.5, -sd_A[A])
     if ss > 1:
         # The flow's grid: the centre pixel of each ss × ss block, Φ in its pixels. In the mortar Φ keeps the
         # fine distances, a fraction of a pixel; a constraint pixel stays at least ½ from the front, as at
@@ -768,17 +774,24 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
         rows, cols = M.shape[0] // ss, M.shape[1] // ss
         pick = (slice(c, c + ss * rows, ss), slice(c, c + ss * cols, ss))
         R, F, phi0 = R[pick], F[pick], (phi0[pick] / np.float32(ss)).astype(np.float32)
+        R_c, F_c = R_c[pick], F_c[pick]
+        sd_R, sd_A = sd_R[pick] / np.float32(ss), sd_A[pick] / np.float32(ss)
         phi0[R] = np.minimum(phi0[R], -0.5)
         phi0[~F] = np.maximum(phi0[~F], 0.5)
         r = r / ss
     movable = F & ~R
+    # The coarse levels flow with the pixel-centred constraints only (`raster.morphology`): the
+    # corner-centred disks add a part exactly 2r wide, and single pixels along the constraints' arcs,
+    # which sampled every 2^k pixels stand alone and would pinch the coarse fronts (a bar held between two
+    # parts of the anticore was cut so). The full-resolution level has the exact constraints.
+    movable_c = F_c & ~R_c
     timings["init"] = time.perf_counter() - t0
     counts, converged = [], []
     phi = None
     for k in range(levels - 1, -1, -1):
         t0 = time.perf_counter()
         base = _downsample(phi0, k) / np.float32(2 ** k)
-        mov_k = _downsample(movable, k)
+        mov_k = _downsample(movable if k == 0 else movable_c, k)
         if phi is None:
             phi_k = base.copy()
         else:
@@ -797,9 +810,10 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
         timings[f"flow level {k}"] = time.perf_counter() - t0
     out = (phi < 0) | R
     out &= F
+    curves = None
     if finish == "mpp":
         t0 = time.perf_counter()
-        out = mpp_finish(out, R, F)
+        out, curves = mpp_finish(out, R, F, core_sd=sd_R, anticore_sd=sd_A, return_curves=True)
         timings["finish"] = time.perf_counter() - t0
     timings["total"] = time.perf_counter() - t_start
     budget = "until rest" if iterations is None else (
@@ -811,4 +825,4 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
                       NotConvergedWarning, stacklevel=2)
     return RasterTightening(mask=out, phi=phi, core=R, fillet=F, r=r, init=init, levels=levels,
                             iterations=counts, timings=timings, converged=converged, budget=budget,
-                            finish=finish)
+                            finish=finish, curves=curves)
