@@ -553,6 +553,20 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
         old = flat[idx]
         new = old + (dt * kappa * grad).astype(np.float32)
         flat[idx] = new
+        # Φ stays 1-Lipschitz across pixels, as a distance is: |Φ| at most 1 beside the front, and at most
+        # a neighbour's |Φ| + 1 elsewhere. Where a front rests against a constraint that holds it back (a
+        # hole's anticore, which the hole's edge would shrink into), the flow otherwise keeps pushing Φ
+        # behind it deeper, step after step, without moving the front: the front across the part (a thin
+        # ring's other side) then has ever more to undo, and the part never vanishes.
+        neg = new < 0
+        bound = np.full(idx.size, np.inf, dtype=np.float32)
+        for o in (1, -1, Wp, -Wp):
+            q = flat[idx + o]
+            bound = np.minimum(bound, np.where((q < 0) != neg, np.float32(1.0), np.abs(q) + np.float32(1.0)))
+        over = np.abs(new) > bound
+        if over.any():
+            new = np.where(over, np.copysign(bound, new), new).astype(np.float32)
+            flat[idx] = new
         if keep_topology:
             new = _keep_topology(flat, idx, old, new, Wp)
         # Keep the frame equal to the border pixels (edge replication).

@@ -60,6 +60,27 @@ def _topology(inside: np.ndarray) -> tuple[int, int]:
     return int(n), int(m) - 1
 
 
+def _only_vanished(before: np.ndarray, after: np.ndarray) -> bool:
+    """Whether ``after`` differs from ``before`` by parts of ``before`` that vanished and nothing else
+    among its parts: at least one part is gone, no part of ``after`` overlaps two parts of ``before`` or
+    none, and no part of ``before`` holds two of ``after`` (a loop that shrinks to nothing in the mortar,
+    a thin ring against a hole's anticore; the holes such a part made merge with what surrounds it).
+    `mpp_finish` asks it of the set and of its complement, so that a gap that closes is the same event
+    as a part that vanishes."""
+    eight = np.ones((3, 3), bool)
+    lb, nb = ndimage.label(before, structure=eight)
+    la, na = ndimage.label(after, structure=eight)
+    if na >= nb:
+        return False
+    if na == 0:
+        return True
+    pairs = np.unique(np.stack([la[after], lb[after]]), axis=1)
+    pairs = pairs[:, pairs[1] > 0]
+    per_after = np.bincount(pairs[0], minlength=na + 1)[1:]
+    per_before = np.bincount(pairs[1], minlength=nb + 1)[1:]
+    return bool((per_after == 1).all() and (per_before <= 1).all())
+
+
 def _rings(geom) -> list[tuple[int, np.ndarray, bool]]:
     """(part index, coordinates, is_exterior) for every ring of every polygon part."""
     out = []
@@ -223,8 +244,9 @@ def mpp_finish(mask, core, fillet, *, core_sd=None, anticore_sd=None, return_cur
     out = (out | R) & F
     # The flow found the topology; the finish only straightens. Where the sampled loops come to touch
     # (two parts whose wrapped curves leave pixels diagonally adjacent), keep the flow's result.
-    if _topology(out) != _topology((M | R) & F):
-        return ((M | R) & F, None) if return_curves else (M | R) & F
+    before = (M | R) & F
+    if _topology(out) != _topology(before) and not (_only_vanished(before, out) or _only_vanished(~before, ~out)):
+        return (before, None) if return_curves else before
     if not return_curves:
         return out
     if kept_own:

@@ -108,3 +108,31 @@ def test_tighten_from_the_core_drops_a_stroke_2r_minus_1_wide(r):
     T = raster.tighten(m, r, init="core")
     assert not T.core[neck].any() and not T.mask[neck].any()
     assert ndimage.label(T.mask, structure=np.ones((3, 3), bool))[1] == 2
+
+
+def _thin_ring():
+    """A ring 12 px wide (0.6 r at r = 20 px) around a hole 30 px in radius (its own anticore)."""
+    yy, xx = np.mgrid[:140, :140]
+    d = np.hypot(yy - 69.5, xx - 69.5)
+    return (d >= 30) & (d < 42)
+
+
+def test_a_thin_ring_vanishes_from_the_input():
+    """Issue 21: no core anywhere, so every tightening is empty, and the flow from the input must get
+    there. Its inner edge rests against the hole's anticore, and the outer front sweeps the ring towards
+    it; the minimum-perimeter finish sees both loops wrap the same anticore, nothing between them, and
+    lets the part vanish (dually, the complement's gap closes)."""
+    m = _thin_ring()
+    r = 20.0
+    assert not raster.core(m, r).any() and raster.anticore(m, r)[69, 69]
+    T = raster.tighten(m, r, init="input")
+    assert T.is_converged
+    assert not T.mask.any()
+    T = raster.tighten(~m, r, init="input")
+    assert T.mask.all()
+    # Fronts that only see themselves still keep two parts apart that must stay apart (two squares with
+    # their own cores, a 3-pixel gap between them).
+    two = np.zeros((60, 100), bool)
+    two[10:50, 10:48] = two[10:50, 51:90] = True
+    T = raster.tighten(two, 8, init="input")
+    assert ndimage.label(T.mask, structure=np.ones((3, 3), bool))[1] == 2
