@@ -141,13 +141,14 @@ def _fft_count(src: np.ndarray, kernel: np.ndarray, n: int, *, spread: bool) -> 
     """For each pixel k, how many True pixels of ``src`` lie at k + o for the kernel's offsets o
     (``spread=False``, a correlation), or how many True pixels k of ``src`` have the pixel at k + o
     (``spread=True``, a convolution); offsets as in `_corner_disk`. Counted by FFT, rounded."""
-    from scipy.signal import fftconvolve
+    from scipy import fft      # not scipy.signal's fftconvolve: importing scipy.signal takes a second or more
 
     k = kernel.astype(np.float32)
     if not spread:
         k = k[::-1, ::-1]
-    full = fftconvolve(src.astype(np.float32), k, mode="full")
     h, w = src.shape
+    shape = (fft.next_fast_len(h + k.shape[0] - 1, real=True), fft.next_fast_len(w + k.shape[1] - 1, real=True))
+    full = fft.irfft2(fft.rfft2(src.astype(np.float32), shape) * fft.rfft2(k, shape), shape)
     lo = n - 1 if spread else n
     return np.rint(full[lo:lo + h, lo:lo + w])
 

@@ -225,7 +225,16 @@ def mpp_finish(mask, core, fillet, *, core_sd=None, anticore_sd=None, return_cur
         got = near[shapely.contains_xy(piece, xs[near], ys[near])]
         # A pixel centre on the curve itself (a straight stretch through centres) keeps the flow's side:
         # the same rule for the set and its complement, so the finish commutes with complementing.
-        on = near[shapely.dwithin(piece.boundary, shapely.points(xs[near], ys[near]), 1e-9)]
+        # (Only a centre left out beside one taken in can be on the curve.)
+        taken = np.zeros(M.shape, dtype=bool)
+        taken[ii[got], jj[got]] = True
+        beside = np.zeros_like(taken)
+        beside[1:] |= taken[:-1]
+        beside[:-1] |= taken[1:]
+        beside[:, 1:] |= taken[:, :-1]
+        beside[:, :-1] |= taken[:, 1:]
+        cand = near[beside[ii[near], jj[near]] & ~taken[ii[near], jj[near]]]
+        on = cand[shapely.dwithin(piece.boundary, shapely.points(xs[cand], ys[cand]), 1e-9)]
         tie[on] = True
         # A guard: the wrapped part must stay one part with no more holes than it had (a funnel that
         # failed on a degenerate sleeve could give a self-touching curve); otherwise keep the flow's own.
