@@ -89,6 +89,10 @@ class RasterTightening:
         level, or another fixed number.
     finish : str
         The final step applied after the flow (``"mpp"`` or ``"none"``, see `tighten`).
+    curves : shapely Polygon or MultiPolygon, or None
+        With the minimum-perimeter finish, its loops in pixel coordinates (x = column, y = −row): the
+        exact curves ``mask`` samples at the pixel centres, which `raster.contours` returns. None where
+        the finish kept the flow's own pixels (or did not run); then `raster.contours` traces Φ.
     """
 
     mask: np.ndarray
@@ -103,8 +107,6 @@ class RasterTightening:
     converged: list = field(default_factory=list)
     budget: str = "until rest"
     finish: str = "none"
-    #: With the minimum-perimeter finish, its loops (polygons, x = column, y = −row): the exact boundary
-    #: the mask samples, which `raster.contours` returns instead of tracing Φ (None: trace Φ).
     curves: object = None
 
     @property
