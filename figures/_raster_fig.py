@@ -25,9 +25,9 @@ __all__ = ["draw_raster_figure", "raster_module"]
 
 #: Both sides start the flow from the core, as the paper's implementation does.
 INIT = "core"
-# At most this many steps a level: the flow stops once its fronts rest. The paper's 100 leave the long
-# straight tight segments tens of pixels short of where they settle.
-ITERATIONS = 1000
+# Steps a level: None is `raster.tighten`'s default, until the fronts rest (with a safety cap). The
+# paper's 100 leave the long straight tight segments tens of pixels short of where they settle.
+ITERATIONS = None
 
 
 def raster_module():

@@ -7,7 +7,8 @@ paper's method), over the mortar. (c) The paper's pixel method (constrained leve
 
 Both start from the core. The vector engine tightens each core loop in its homotopy class and merges
 loops only where the tight loops touch; the pixel flow runs multiscale as in the paper, each front seeing
-only itself and each finer level keeping its own topology, to convergence (at most 1000 steps a level).
+only itself and each finer level keeping its own topology, until its fronts rest (raster.tighten's default),
+then the minimum-perimeter finish.
 Panel (d) reports both topologies (the same here) and where the boundaries differ: mostly the long,
 nearly straight tight segments, which the curvature flow approaches slowly.
 """

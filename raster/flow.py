@@ -38,7 +38,7 @@ import numpy as np
 from scipy import ndimage
 
 from ._checks import check_mask, check_radius
-from .morphology import _core_fillet, mason, vanishes
+from .morphology import _core_fillet_both, mason, vanishes
 from .mpp import mpp_finish
 
 __all__ = ["NotConvergedWarning", "RasterTightening", "default_levels", "signed_distance", "tighten"]
@@ -89,6 +89,10 @@ class RasterTightening:
         level, or another fixed number.
     finish : str
         The final step applied after the flow (``"mpp"`` or ``"none"``, see `tighten`).
+    curves : shapely Polygon or MultiPolygon, or None
+        With the minimum-perimeter finish, its loops in pixel coordinates (x = column, y = −row): the
+        exact curves ``mask`` samples at the pixel centres, which `raster.contours` returns. None where
+        the finish kept the flow's own pixels (or did not run); then `raster.contours` traces Φ.
     """
 
     mask: np.ndarray
@@ -103,6 +107,7 @@ class RasterTightening:
     converged: list = field(default_factory=list)
     budget: str = "until rest"
     finish: str = "none"
+    curves: object = None
 
     @property
     def is_converged(self) -> bool:
@@ -550,6 +555,20 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
         old = flat[idx]
         new = old + (dt * kappa * grad).astype(np.float32)
         flat[idx] = new
+        # Φ stays 1-Lipschitz across pixels, as a distance is: |Φ| at most 1 beside the front, and at most
+        # a neighbour's |Φ| + 1 elsewhere. Where a front rests against a constraint that holds it back (a
+        # hole's anticore, which the hole's edge would shrink into), the flow otherwise keeps pushing Φ
+        # behind it deeper, step after step, without moving the front: the front across the part (a thin
+        # ring's other side) then has ever more to undo, and the part never vanishes.
+        neg = new < 0
+        bound = np.full(idx.size, np.inf, dtype=np.float32)
+        for o in (1, -1, Wp, -Wp):
+            q = flat[idx + o]
+            bound = np.minimum(bound, np.where((q < 0) != neg, np.float32(1.0), np.abs(q) + np.float32(1.0)))
+        over = np.abs(new) > bound
+        if over.any():
+            new = np.where(over, np.copysign(bound, new), new).astype(np.float32)
+            flat[idx] = new
         if keep_topology:
             new = _keep_topology(flat, idx, old, new, Wp)
         # Keep the frame equal to the border pixels (edge replication).
@@ -741,7 +760,7 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
     levels = int(levels)
     timings = {}
     t0 = time.perf_counter()
-    R, F = _core_fillet(M, r)
+    R, F, R_c, F_c, sd_R, sd_A = _core_fillet_both(M, r)
     timings["morphology"] = time.perf_counter() - t0
     if vanishes(M, r):        # no disk of radius r fits: every tightening is empty, at once
         timings["total"] = time.perf_counter() - t_start
@@ -754,11 +773,14 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
     # The constraints: Φ < 0 in the core and > 0 in the anticore, for good. There Φ is the signed distance
     # to the constraint's own edge (−½ and +½ on its first pixels), not to the initial set: a front that
     # reaches the anticore then sees it as a boundary half a pixel away, and settles against it.
+    # On a constraint's edge Φ is the signed distance to its sub-pixel edge (`_core_fillet_both`): half a
+    # pixel on a straight edge, a fraction where an arc barely covers a lone stair pixel (there the square
+    # would hold the front 0.7 px beyond the arc).
     if R.any():
-        phi0[R] = 0.5 - ndimage.distance_transform_edt(R)[R]
+        phi0[R] = np.maximum(0.5 - ndimage.distance_transform_edt(R)[R], sd_R[R])
     if not F.all():
         A = ~F
-        phi0[A] = ndimage.distance_transform_edt(A)[A] - 0.5
+        phi0[A] = np.minimum(ndimage.distance_transform_edt(A)[A] - 0.5, -sd_A[A])
     if ss > 1:
         # The flow's grid: the centre pixel of each ss × ss block, Φ in its pixels. In the mortar Φ keeps the
         # fine distances, a fraction of a pixel; a constraint pixel stays at least ½ from the front, as at
@@ -768,17 +790,24 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
         rows, cols = M.shape[0] // ss, M.shape[1] // ss
         pick = (slice(c, c + ss * rows, ss), slice(c, c + ss * cols, ss))
         R, F, phi0 = R[pick], F[pick], (phi0[pick] / np.float32(ss)).astype(np.float32)
+        R_c, F_c = R_c[pick], F_c[pick]
+        sd_R, sd_A = sd_R[pick] / np.float32(ss), sd_A[pick] / np.float32(ss)
         phi0[R] = np.minimum(phi0[R], -0.5)
         phi0[~F] = np.maximum(phi0[~F], 0.5)
         r = r / ss
     movable = F & ~R
+    # The coarse levels flow with the pixel-centred constraints only (`raster.morphology`): the
+    # corner-centred disks add a part exactly 2r wide, and single pixels along the constraints' arcs,
+    # which sampled every 2^k pixels stand alone and would pinch the coarse fronts (a bar held between two
+    # parts of the anticore was cut so). The full-resolution level has the exact constraints.
+    movable_c = F_c & ~R_c
     timings["init"] = time.perf_counter() - t0
     counts, converged = [], []
     phi = None
     for k in range(levels - 1, -1, -1):
         t0 = time.perf_counter()
         base = _downsample(phi0, k) / np.float32(2 ** k)
-        mov_k = _downsample(movable, k)
+        mov_k = _downsample(movable if k == 0 else movable_c, k)
         if phi is None:
             phi_k = base.copy()
         else:
@@ -797,9 +826,10 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
         timings[f"flow level {k}"] = time.perf_counter() - t0
     out = (phi < 0) | R
     out &= F
+    curves = None
     if finish == "mpp":
         t0 = time.perf_counter()
-        out = mpp_finish(out, R, F)
+        out, curves = mpp_finish(out, R, F, core_sd=sd_R, anticore_sd=sd_A, return_curves=True)
         timings["finish"] = time.perf_counter() - t0
     timings["total"] = time.perf_counter() - t_start
     budget = "until rest" if iterations is None else (
@@ -811,4 +841,4 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
                       NotConvergedWarning, stacklevel=2)
     return RasterTightening(mask=out, phi=phi, core=R, fillet=F, r=r, init=init, levels=levels,
                             iterations=counts, timings=timings, converged=converged, budget=budget,
-                            finish=finish)
+                            finish=finish, curves=curves)

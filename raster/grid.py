@@ -158,8 +158,9 @@ def _rings_to_polygons(rings: list[np.ndarray]):
 def contours(result, grid: Grid | None = None):
     """The boundary of a raster result as shapely polygons with holes, to sub-pixel accuracy.
 
-    For a `RasterTightening` the zero level of Φ is traced (linear interpolation between pixel centres);
-    for a plain mask the ½ level of the mask (the pixel outline with its corners cut). Coordinates are
+    For a `RasterTightening` with the minimum-perimeter finish, its loops themselves (the curves the mask
+    samples); otherwise the zero level of Φ is traced (linear interpolation between pixel centres); for a
+    plain mask the ½ level of the mask (the pixel outline with its corners cut). Coordinates are
     world coordinates of ``grid`` if given, else pixel coordinates with x = column, y = −row (so that the
     image is the right way up).
 
@@ -181,10 +182,22 @@ def contours(result, grid: Grid | None = None):
     """
     import contourpy
 
+    curves = getattr(result, "curves", None)
+    if curves is not None:
+        # The minimum-perimeter finish's own loops: the boundary the mask samples, exactly.
+        if grid is None:
+            return curves
+        h = grid.pixel_size
+        return shapely.transform(curves, lambda xy: np.column_stack([grid.x0 + (xy[:, 0] + 0.5) * h,
+                                                                     grid.y_top - (0.5 - xy[:, 1]) * h]))
     phi = getattr(result, "phi", None)
     mask = np.asarray(getattr(result, "mask", result), dtype=bool)
     if phi is not None:
-        field = np.where(mask, -np.abs(phi) - 1e-6, np.abs(phi) + 1e-6).astype(float)
+        # Φ places the front where it agrees with the mask; a pixel a final step (the minimum-perimeter
+        # finish) moved to the other side keeps the flow's Φ of about 0, which would put the front on
+        # that pixel's centre: there the front is taken half-way to the neighbours, as for a plain mask.
+        mag = np.where((phi < 0) == mask, np.abs(phi), 0.5)
+        field = np.where(mask, -mag - 1e-6, mag + 1e-6).astype(float)
         field = np.clip(field, -2.0, 2.0)
         level = 0.0
         pad_value = 2.0

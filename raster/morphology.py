@@ -1,21 +1,42 @@
 """The paper's morphology on binary images, through exact Euclidean distance transforms.
 
-Pixel-square semantics. A mask stands for the union of its True pixels' unit squares, centred on the
-integer grid. The distance from a pixel's centre to such a union is the distance to the nearest True
-pixel's centre less ½ (exact along rows and columns, within 0.21 px diagonally), and distances between
-centres come exactly from `scipy.ndimage.distance_transform_edt` (squared distances are integers, so no
-rounding can break a relation). With ``d(p, X)`` the distance between centres from pixel p to the nearest
-pixel of X:
+Pixel-square semantics. A mask stands for the union S of its True pixels' closed unit squares, centred on
+the integer grid. Distances between centres
+come exactly from `scipy.ndimage.distance_transform_edt` (squared distances are integers, so no rounding
+can break a relation). With ``d(p, X)`` the distance between centres from pixel p to the nearest pixel
+of X:
 
 * ``grow(M, r)``   = {p : d(p, M) < r + ½}     (the paper's S↑r: p's centre within r of M's squares)
 * ``shrink(M, r)`` = {p : d(p, ¬M) ≥ r + ½}    (S↓r: the disk of radius r at p's centre misses ¬M's squares)
-* ``core``  = grow(shrink(M)),  ``fillet`` = shrink(grow(M)),  ``mortar`` = fillet ∧ ¬core,
-  ``anticore`` = ¬fillet.
 
-The half pixel matters: measured between centres, a bar 2r − 1 pixels wide would hold a disk of radius r
-and survive the core, one pixel more than it should; a rasterised shape's boundary lies half-way between
-its inside and outside pixels, and so does this one's. In particular a part exactly 2r wide has a shrink
-of zero width and vanishes, as it does in the exact engine.
+The half pixel is the distance from a centre to its square's edge: along rows and columns these are exact
+(a bar 2r − 1 pixels wide, measured between centres, would otherwise hold a disk of radius r and survive
+one pixel more than it should); diagonally the true distance to a square is up to 0.21 px less.
+
+**The core keeps parts exactly 2r wide (the paper's closed shrink).** The core R_r(S) is the union of
+the open disks of radius r inside S, and the shrink is closed (distance ≥ r from ¬S), so a bar of S
+exactly 2r wide holds a row of such disks and is core. A bar of a mask is a whole number w of pixels
+wide, so its centre line lies on pixel centres when w is odd and on pixel *edges* when w is even: at a
+whole radius r, the disks that fit a 2r-wide bar are centred on pixel edges and corners, never on
+centres, and ``grow(shrink(M))`` (which only tries disks at centres) loses the bar. The core therefore
+takes the disks of both families:
+
+* a disk centred on a pixel centre c is, on pixels, {p : |p − c| < r + ½} (the pixels whose squares
+  it meets, exactly along rows and columns); it fits where ``shrink(M, r)`` holds c, and these disks
+  make the opening ``grow(shrink(M))``;
+* a disk centred on a pixel corner k meets the square of pixel q exactly when q lies within r of one of
+  the four pixels around k (per axis, the gap from k to q's square is the gap from q to the nearest of
+  those four pixels' centres), so on pixels it is {p : |p − b| < r for one of k's four pixels b}, with
+  no approximation: it fits M exactly when all four have ``d(·, ¬M) ≥ r``.
+
+A pixel disk fits when all its pixels are True, and ``core`` is the union of the fitting ones of both
+families: a union of openings, itself an opening (increasing, ``core ⊆ M``, idempotent). A pixel is core
+when its square meets a disk of radius r that fits S (for corner-centred disks exactly; for pixel-centred
+ones up to the half-pixel rule's diagonal error).
+Along rows and columns it is exact at every radius: a bar (or a staircase step) w pixels wide is core
+exactly when w ≥ 2r, so at a whole radius a stroke of 2r pixels is kept and one of 2r − 1 is not.
+``fillet(M) = ¬core(¬M)``: a gap exactly 2r wide is anticore. ``mortar`` = fillet ∧ ¬core,
+``anticore`` = ¬fillet.
 
 Hence ``core ⊆ M ⊆ fillet`` holds exactly and every operation is dual to its partner under complement:
 ``shrink(¬M) = ¬grow(M)`` and ``core(¬M) = anticore(M)``, pixel for pixel.
@@ -102,6 +123,115 @@ def _shrink(M: np.ndarray, r: float) -> np.ndarray:
     return _dist_to(~M) >= r + 0.5
 
 
+#: Relative precision of a tie: a distance within this fraction of r of it counts as r (squared distances
+#: between centres are integers, so a true tie is exact and any other value is far from it).
+_TIE = 1e-12
+
+
+def _corner_disk(r: float) -> tuple[np.ndarray, int]:
+    """The pixel disk of radius r about a corner: ``disk[a + n − 1, b + n − 1]`` for the pixel offset
+    (a, b), a, b in −n + 1 … n, from the pixel whose bottom-right corner it is (the corner lies at
+    (½, ½) from it)."""
+    n = max(math.ceil(r), 1)
+    off = np.arange(-n + 1, n + 1) - 0.5
+    return (off[:, None] ** 2 + off[None, :] ** 2 < (r * (1.0 - _TIE)) ** 2), n
+
+
+def _fft_count(src: np.ndarray, kernel: np.ndarray, n: int, *, spread: bool) -> np.ndarray:
+    """For each pixel k, how many True pixels of ``src`` lie at k + o for the kernel's offsets o
+    (``spread=False``, a correlation), or how many True pixels k of ``src`` have the pixel at k + o
+    (``spread=True``, a convolution); offsets as in `_corner_disk`. Counted by FFT, rounded."""
+    from scipy import fft      # not scipy.signal's fftconvolve: importing scipy.signal takes a second or more
+
+    k = kernel.astype(np.float32)
+    if not spread:
+        k = k[::-1, ::-1]
+    h, w = src.shape
+    shape = (fft.next_fast_len(h + k.shape[0] - 1, real=True), fft.next_fast_len(w + k.shape[1] - 1, real=True))
+    full = fft.irfft2(fft.rfft2(src.astype(np.float32), shape) * fft.rfft2(k, shape), shape)
+    lo = n - 1 if spread else n
+    return np.rint(full[lo:lo + h, lo:lo + w])
+
+
+def _box(sel: np.ndarray, margin: int) -> tuple[slice, slice]:
+    rows, cols = np.flatnonzero(sel.any(axis=1)), np.flatnonzero(sel.any(axis=0))
+    return (slice(max(rows[0] - margin, 0), rows[-1] + margin + 1),
+            slice(max(cols[0] - margin, 0), cols[-1] + margin + 1))
+
+
+def _opening(P: np.ndarray, r: float, parts: bool = False):
+    """The core of a (padded) mask: the union of its openings by the pixel disks of radius r centred on
+    pixel centres and on pixel corners (see the module's docstring).
+
+    With ``parts``, returns ``(core, core_c, sd)``: the core, its pixel-centred part
+    ``grow(shrink(P))``, and a signed distance to the core's sub-pixel edge, pixels (negative on the
+    core): the distance to the nearest disk centre less the disk's radius, r + ½ for a pixel-centred
+    disk (its pixels are those whose squares it meets: on a straight edge the edge lies half-way between
+    pixels, as for squares) and r for a corner-centred one (exact). Where a digital arc leaves a lone
+    stair pixel whose centre the arc barely covers, this puts the edge just past that centre, not half a
+    pixel past it."""
+    d = _dist_to(~P)
+    centre = d >= r + 0.5
+    dc = _dist_to(centre)
+    out = dc < r + 0.5
+    core_c = out.copy() if parts else None
+    fits, box = _corner_fits(P, r, d, centre)
+    if fits is not None:
+        disk, n = _corner_disk(r)
+        out[box] |= _fft_count(fits, disk, n, spread=True) > 0
+    if not parts:
+        return out
+    sd = (dc - (r + 0.5)).astype(np.float32)
+    if fits is not None:
+        # Only near the edge (deeper in, the pixel-centred disks' depth is as good: Φ there is far from
+        # the front and the traced edges never reach it).
+        sub = sd[box]
+        near = np.flatnonzero((sub > -2.0).ravel())
+        flat = sub.ravel()
+        flat[near] = np.minimum(flat[near], _dist_to_corners(fits, near) - r)
+        sd[box] = flat.reshape(sub.shape)
+    # Ties and the nearest-corner search aside, the sign already agrees with the core; make it certain.
+    sd = np.where(out, np.minimum(sd, -0.02), np.maximum(sd, 0.02)).astype(np.float32)
+    return out, core_c, sd
+
+
+def _corner_fits(P, r, d, centre):
+    """The corner-centred disks of radius r that fit P and that the pixel-centred ones do not already
+    cover, as an array over a box of P (``fits[i, j]``: the corner at the bottom-right of pixel (i, j) of
+    the box), and the box; (None, None) if there are none."""
+    # The open disk of radius r about the corner at the bottom-right of pixel (i, j) meets a pixel's square
+    # exactly when the pixel lies within r of one of the corner's four pixels (i, j), (i + 1, j),
+    # (i, j + 1), (i + 1, j + 1): it fits S when all four are at least r from every outside pixel. Where all
+    # four are pixel-centred disk centres, their disks cover the corner's (a pixel within r of the corner
+    # is within r + ½ of the nearest of the four), so those are skipped.
+    def four(a: np.ndarray) -> np.ndarray:
+        q = np.zeros_like(a)
+        q[:-1, :-1] = a[:-1, :-1] & a[1:, :-1] & a[:-1, 1:] & a[1:, 1:]
+        return q
+
+    fits = four(d >= r * (1.0 - _TIE)) & ~four(centre)
+    if not fits.any():
+        return None, None
+    n = max(math.ceil(r), 1)
+    box = _box(fits, n + 1)
+    return fits[box], box
+
+
+def _dist_to_corners(fits: np.ndarray, where: np.ndarray) -> np.ndarray:
+    """Distance from the pixel centres of ``where`` (flat indices) to the nearest corner of ``fits`` (as
+    in `_corner_fits`), found among the nearest corners of the four corners around each pixel (exact but
+    where two corners are within a fraction of a pixel of a tie)."""
+    _, (fi, fj) = ndimage.distance_transform_edt(~fits, return_indices=True)
+    h, w = fits.shape
+    ii, jj = np.unravel_index(where, (h, w))
+    best = np.full(ii.shape, np.inf)
+    for di in (-1, 0):
+        for dj in (-1, 0):
+            ai, aj = np.clip(ii + di, 0, h - 1), np.clip(jj + dj, 0, w - 1)
+            best = np.minimum(best, np.hypot(ii - fi[ai, aj] - 0.5, jj - fj[ai, aj] - 0.5))
+    return best
+
+
 def grow(mask, r):
     """Pixels whose centre is closer than ``r`` to a True pixel's square (the paper's S↑r).
 
@@ -155,6 +285,20 @@ def shrink(mask, r):
     return _crop(_shrink(P, r), p)
 
 
+def _core_fillet_both(M: np.ndarray, r: float):
+    """``(core, fillet, core_c, fillet_c, sd_core, sd_anticore)``: `_core_fillet`; the same with
+    pixel-centred disks only (a smaller core and anticore; `tighten` gives its coarse levels these looser
+    constraints); and the signed distances to the core's and the anticore's sub-pixel edges (negative
+    inside each, see `_opening`)."""
+    if vanishes(M, r):
+        R, F = _core_fillet(M, r)
+        return R, F, R, F, np.where(R, -0.5, 0.5).astype(np.float32), np.where(F, 0.5, -0.5).astype(np.float32)
+    P, p = _pad(M, r, 2)
+    R, Rc, dR = _opening(P, r, parts=True)
+    A, Ac, dA = _opening(~P, r, parts=True)
+    return _crop(R, p), _crop(~A, p), _crop(Rc, p), _crop(~Ac, p), _crop(dR, p), _crop(dA, p)
+
+
 def _core_fillet(M: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
     if vanishes(M, r):
         # The core is empty at once; the fillet as usual while padding is affordable, else its r → ∞
@@ -163,9 +307,9 @@ def _core_fillet(M: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
         if (M.shape[0] + 2 * p) * (M.shape[1] + 2 * p) > MAX_PADDED_PIXELS:
             return np.zeros_like(M), _hull(M)
         P, p = _pad(M, r, 2)
-        return np.zeros_like(M), _crop(_shrink(_grow(P, r), r), p)
+        return np.zeros_like(M), _crop(~_opening(~P, r), p)
     P, p = _pad(M, r, 2)
-    return _crop(_grow(_shrink(P, r), r), p), _crop(_shrink(_grow(P, r), r), p)
+    return _crop(_opening(P, r), p), _crop(~_opening(~P, r), p)
 
 
 def core(mask, r):
@@ -192,7 +336,7 @@ def core(mask, r):
     M = check_mask(mask)
     r = check_radius(r)
     P, p = _pad(M, r, 2)
-    return _crop(_grow(_shrink(P, r), r), p)
+    return _crop(_opening(P, r), p)
 
 
 def fillet(mask, r):
@@ -218,7 +362,7 @@ def fillet(mask, r):
     M = check_mask(mask)
     r = check_radius(r)
     P, p = _pad(M, r, 2)
-    return _crop(_shrink(_grow(P, r), r), p)
+    return _crop(~_opening(~P, r), p)
 
 
 def mortar(mask, r):

@@ -60,6 +60,27 @@ def _topology(inside: np.ndarray) -> tuple[int, int]:
     return int(n), int(m) - 1
 
 
+def _only_vanished(before: np.ndarray, after: np.ndarray) -> bool:
+    """Whether ``after`` differs from ``before`` by parts of ``before`` that vanished and nothing else
+    among its parts: at least one part is gone, no part of ``after`` overlaps two parts of ``before`` or
+    none, and no part of ``before`` holds two of ``after`` (a loop that shrinks to nothing in the mortar,
+    a thin ring against a hole's anticore; the holes such a part made merge with what surrounds it).
+    `mpp_finish` asks it of the set and of its complement, so that a gap that closes is the same event
+    as a part that vanishes."""
+    eight = np.ones((3, 3), bool)
+    lb, nb = ndimage.label(before, structure=eight)
+    la, na = ndimage.label(after, structure=eight)
+    if na >= nb:
+        return False
+    if na == 0:
+        return True
+    pairs = np.unique(np.stack([la[after], lb[after]]), axis=1)
+    pairs = pairs[:, pairs[1] > 0]
+    per_after = np.bincount(pairs[0], minlength=na + 1)[1:]
+    per_before = np.bincount(pairs[1], minlength=nb + 1)[1:]
+    return bool((per_after == 1).all() and (per_before <= 1).all())
+
+
 def _rings(geom) -> list[tuple[int, np.ndarray, bool]]:
     """(part index, coordinates, is_exterior) for every ring of every polygon part."""
     out = []
@@ -71,17 +92,53 @@ def _rings(geom) -> list[tuple[int, np.ndarray, bool]]:
     return out
 
 
-def mpp_finish(mask, core, fillet) -> np.ndarray:
+def _edge_polygon(inside: np.ndarray, sd: np.ndarray):
+    """The region a constraint covers, to sub-pixel accuracy: the zero level of its signed distance
+    ``sd`` (negative on ``inside``), linear on the four triangles of each square of pixel centres (so
+    that the level of −sd is the same curve and the finish commutes with complementing the image),
+    clipped to the pixels' squares (it never reaches past them, so the core's and the anticore's regions
+    never overlap, and a region that meets the image's edge meets it along the squares' edge). In
+    `_squares`' coordinates."""
+    import contourpy
+
+    from .grid import _rings_to_polygons
+
+    if not inside.any():
+        return Polygon()
+    f = np.where(inside, np.minimum(sd, -1e-3), np.maximum(sd, 1e-3)).clip(-2.0, 2.0)
+    f = np.pad(np.pad(f, 1, mode="edge"), 1, constant_values=2.0)
+    gen = contourpy.contour_generator(z=f, name="serial", line_type="Separate", quad_as_tri=True)
+    rings = []
+    for line in gen.lines(0.0):
+        if len(line) < 4:
+            continue
+        ring = np.column_stack([line[:, 0] - 2.0 + 0.5, -(line[:, 1] - 2.0) - 0.5])
+        if not np.array_equal(ring[0], ring[-1]):
+            ring = np.vstack([ring, ring[:1]])
+        rings.append(ring)
+    return shapely.intersection(_rings_to_polygons(rings), _squares(inside))
+
+
+def mpp_finish(mask, core, fillet, *, core_sd=None, anticore_sd=None, return_curves: bool = False):
     """Replace each boundary loop of ``mask`` by the shortest loop homotopic to it in the pixel mortar.
 
     Parameters
     ----------
     mask, core, fillet : (H, W) arrays of bool
         A set between its constraints (``core ⊆ mask ⊆ fillet``), e.g. the flow's result.
+    core_sd, anticore_sd : (H, W) arrays of float, optional
+        Signed distances to the core's and the anticore's sub-pixel edges, pixels, negative inside each
+        (as `raster.tighten` builds them). With them, the loops wrap the constraints' traced edges
+        (within their pixels' squares) instead of the whole squares, which stand up to 0.7 px beyond a
+        digital arc's lone stair pixels.
+    return_curves : bool
+        Also return the shortest loops themselves, as polygons in pixel coordinates (x = column,
+        y = −row, pixel centres on whole numbers), or None where the result is the input's pixels (a
+        part or the whole kept as the flow left it).
 
     Returns
     -------
-    (H, W) ndarray of bool
+    (H, W) ndarray of bool, or (that, curves) with ``return_curves``
         The pixels whose centre lies inside the shortest loops (loops that overlap merge; a loop that can shrink to nothing, one around no core, vanishes). ``core ⊆ result ⊆
         fillet`` holds exactly.
 
@@ -100,29 +157,46 @@ def mpp_finish(mask, core, fillet) -> np.ndarray:
     F = np.asarray(fillet, dtype=bool)
     movable = F & ~R
     if not movable.any() or not M.any():
-        return (M | R) & F
+        return ((M | R) & F, None) if return_curves else (M | R) & F
     # Work on the fillet's bounding box, in its own coordinates: the result is then the same, pixel for
     # pixel, however the image around it is cropped or padded (funnel corners and sample points round
     # alike; a loop's edge often passes exactly through a pixel centre).
     rows, cols = np.flatnonzero(F.any(axis=1)), np.flatnonzero(F.any(axis=0))
-    box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+    # With the constraints' sub-pixel edges, two pixels of anticore around the box: the edge of the
+    # anticore beyond the fillet lies inside those pixels' squares, as it does when the box is the image.
+    g = 0 if core_sd is None or anticore_sd is None else 2
+    box = (slice(max(rows[0] - g, 0), rows[-1] + 1 + g), slice(max(cols[0] - g, 0), cols[-1] + 1 + g))
     if F[box].shape != F.shape:
         out = (M | R) & F
-        out[box] = mpp_finish(M[box], R[box], F[box])
-        return out
+        out[box], curves = mpp_finish(M[box], R[box], F[box],
+                                      core_sd=None if core_sd is None else np.asarray(core_sd)[box],
+                                      anticore_sd=None if anticore_sd is None else np.asarray(anticore_sd)[box],
+                                      return_curves=True)
+        if curves is not None:
+            curves = shapely.transform(curves, lambda xy: xy + [box[1].start, -box[0].start])
+        return (out, curves) if return_curves else out
     from vectortighten.geodesic import ShortestLoops
 
-    inner = _squares(R)
-    outer = _squares(F)
+    if core_sd is None or anticore_sd is None:
+        inner = _squares(R)
+        outer = _squares(F)
+    else:
+        inner = _edge_polygon(R, np.asarray(core_sd, dtype=float))
+        h, w = F.shape
+        outer = shapely.difference(shapely.box(0, -h, w, 0), _edge_polygon(~F, np.asarray(anticore_sd, dtype=float)))
     domain = shapely.difference(outer.buffer(_THICKEN, join_style="mitre", mitre_limit=50.0),
                                 inner.buffer(-_THICKEN, join_style="mitre", mitre_limit=50.0)
                                 if not inner.is_empty else Polygon())
     shortest = ShortestLoops(domain, probe=8)
 
+    kept_own = False
+
     def wrap(ring: np.ndarray) -> Polygon | None:
+        nonlocal kept_own
         try:
             geo = shortest(ring)
         except RuntimeError:
+            kept_own = True
             return Polygon(ring)            # no consistent geodesic: keep the flow's own loop
         if geo is None or len(geo.xy) < 3:
             return None
@@ -132,6 +206,8 @@ def mpp_finish(mask, core, fillet) -> np.ndarray:
     ii, jj = np.nonzero(movable)
     xs, ys = jj + 0.5, -ii - 0.5
     inside = np.zeros(len(ii), dtype=bool)
+    tie = np.zeros(len(ii), dtype=bool)
+    pieces = []
     # Each part of the set is wrapped and sampled on its own: two loops that come to touch along a line
     # share no pixel centre and stay two parts; loops that overlap share pixels and merge, as the level set
     # merges them.
@@ -147,6 +223,19 @@ def mpp_finish(mask, core, fillet) -> np.ndarray:
         near = np.flatnonzero((xs >= x0) & (xs <= x1) & (ys >= y0) & (ys <= y1))
         shapely.prepare(piece)
         got = near[shapely.contains_xy(piece, xs[near], ys[near])]
+        # A pixel centre on the curve itself (a straight stretch through centres) keeps the flow's side:
+        # the same rule for the set and its complement, so the finish commutes with complementing.
+        # (Only a centre left out beside one taken in can be on the curve.)
+        taken = np.zeros(M.shape, dtype=bool)
+        taken[ii[got], jj[got]] = True
+        beside = np.zeros_like(taken)
+        beside[1:] |= taken[:-1]
+        beside[:-1] |= taken[1:]
+        beside[:, 1:] |= taken[:, :-1]
+        beside[:, :-1] |= taken[:, 1:]
+        cand = near[beside[ii[near], jj[near]] & ~taken[ii[near], jj[near]]]
+        on = cand[shapely.dwithin(piece.boundary, shapely.points(xs[cand], ys[cand]), 1e-9)]
+        tie[on] = True
         # A guard: the wrapped part must stay one part with no more holes than it had (a funnel that
         # failed on a degenerate sleeve could give a self-touching curve); otherwise keep the flow's own.
         mine = np.zeros(M.shape, dtype=bool)
@@ -155,13 +244,24 @@ def mpp_finish(mask, core, fillet) -> np.ndarray:
         if _topology(mine) != (1, len(holes)) and _topology(mine)[0] != 0:
             own = _part_mask(part, M.shape) & movable
             inside |= own[ii, jj]
+            kept_own = True
             continue
         inside[got] = True
+        pieces.append(piece)
+    inside[tie] = M[ii[tie], jj[tie]]
     out[ii, jj] = inside
     out = (out | R) & F
     # The flow found the topology; the finish only straightens. Where the sampled loops come to touch
     # (two parts whose wrapped curves leave pixels diagonally adjacent), keep the flow's result.
-    if _topology(out) != _topology((M | R) & F):
-        return (M | R) & F
-    return out
+    before = (M | R) & F
+    if _topology(out) != _topology(before) and not (_only_vanished(before, out) or _only_vanished(~before, ~out)):
+        return (before, None) if return_curves else before
+    if not return_curves:
+        return out
+    if kept_own:
+        return out, None
+    # The loops, to pixel coordinates; the core's parts that no loop holds are its own (their pixels are
+    # in the result whatever the loops do).
+    curves = shapely.union_all(pieces) if pieces else Polygon()
+    return out, shapely.transform(curves, lambda xy: xy + [-0.5, 0.5])
 

@@ -27,15 +27,29 @@ def test_a_loose_loop_around_two_bars_becomes_their_convex_hull():
     assert (core <= out).all() and (out <= fillet).all()
 
 
-def test_the_finish_leaves_vanishing_to_the_flow():
-    # A loop around no core is contractible: the funnel shrinks it to nothing, but the finish never
-    # changes the flow's topology (the flow decides merges, splits and vanishing), so the part is kept.
+def test_a_part_around_no_core_vanishes_in_the_finish():
+    # A loop around no core is contractible in the mortar: its shortest loop is a point, and the part
+    # vanishes, as the level set lets it (the flow's topology rest may stop while such a part is still
+    # shrinking). Dually, a hole around no anticore closes.
     core = np.zeros((30, 30), bool)
     fillet = np.zeros((30, 30), bool)
     fillet[5:25, 5:25] = True
     blob = np.zeros((30, 30), bool)
     blob[10:20, 10:20] = True
-    assert (mpp_finish(blob, core, fillet) == blob).all()
+    assert not mpp_finish(blob, core, fillet).any()
+    assert mpp_finish(~blob, ~fillet, ~core).all()
+
+
+def test_the_finish_does_not_merge_parts_that_vanish_and_touch():
+    # A free part next to a core's part: the free one vanishes, the other keeps its own shape.
+    core, fillet = _bars()
+    flow = np.zeros_like(core)
+    flow[6:34, 6:14] = True
+    free = np.zeros_like(core)
+    free[15:18, 18:21] = True
+    out = mpp_finish(flow | free, core, fillet)
+    assert not out[free].any()
+    assert (core <= out).all() and (out <= fillet).all()
 
 
 def test_the_finish_keeps_the_flows_topology():

@@ -819,9 +819,9 @@ def _add_compare(sub) -> None:
     cmp_.add_argument("--levels", type=_positive_int, default=None, metavar="L",
                       help="resolution levels of the pixel flow (default: the paper's multiscale; 1 = full "
                            "resolution only, slower but more accurate)")
-    cmp_.add_argument("--iterations", type=_positive_int, default=1000, metavar="N",
-                      help="most steps of the pixel flow per level; it stops once converged "
-                           "(default 1000; the paper's budget is 100)")
+    cmp_.add_argument("--iterations", type=_positive_int, default=None, metavar="N",
+                      help="most steps of the pixel flow per level (default: until its front rests, with "
+                           "a safety cap; the paper's budget is 100)")
     cmp_.add_argument("--supersample", type=_odd_positive_int, default=None, metavar="K",
                       help="rasterise IN K times finer (K odd) for the pixel method's core, fillet and start, "
                            "and flow on the grid of P (default 5, which agrees best, at about five times "

@@ -163,7 +163,7 @@ def pixel_squares(mask: np.ndarray, grid):
 
 
 def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: int | None = None,
-               iterations: int = 1000, mask_reference: bool = False, supersample: int = 5,
+               iterations: int | None = None, mask_reference: bool = False, supersample: int = 5,
                finish: str = "mpp") -> CrossCheck:
     """Tighten S exactly and on pixels, and compare the two on the same grid.
 
@@ -182,11 +182,10 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
     init : {"core", "input", "mason"}
     levels, iterations : int, optional
         Passed to `raster.tighten`: resolution levels (default: the paper's multiscale scheme,
-        `raster.default_levels`) and the most steps a level. The default, 1000, lets the flow converge
-        (it stops early once its fronts rest): the paper's 100 leave long, nearly straight fronts short of
-        where they settle (a comb's teeth merged into one block sink slowly towards its base), and a
-        cross-check compares the definitions, not a time budget. ``levels=1`` runs the flow at full
-        resolution only (thousands of steps).
+        `raster.default_levels`) and the most steps a level. The default, None, is `raster.tighten`'s:
+        each level flows until its front rests (with a safety cap), so that a cross-check compares the
+        definitions, not a time budget (the paper's 100 leave long, nearly straight fronts short of where
+        they settle). ``levels=1`` runs the flow at full resolution only (thousands of steps).
     mask_reference : bool
         Also tighten the rasterised input exactly (`pixel_squares` of the mask) and compare the raster
         result with it (``mask_hausdorff_px``, ``mask_topology``): the pixel flow measured on the very
