@@ -45,7 +45,7 @@ from .centers import ArcCenters, _search_window, boundary_edges, exact_centers, 
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
-from .tolerances import DOMAIN_CHORD_R, EXACT_CHORD_R, GUIDE_MISSING_R, OBSTACLE_SAG_R, THICKEN_R, TOUCH_SCALE, VERIFY_DEPTH_R, \
+from .tolerances import CENTRE_ROUNDING_R, DOMAIN_CHORD_R, EXACT_CHORD_R, GUIDE_MISSING_R, OBSTACLE_SAG_R, THICKEN_R, TOUCH_SCALE, VERIFY_DEPTH_R, \
     ZERO_SCALE
 
 __all__ = ["Init", "Tightening", "tighten"]
@@ -121,7 +121,10 @@ class _Context:
         self.osag = OBSTACLE_SAG_R * r
         self.pen = 2.0 * self.osag + self.pen_center
         E, G = (_m._orient(P) for P in _m._offsets(S, r, self.q_exact))
-        window = _search_window(S, r, self.q_exact)[0]
+        # Every convex vertex of GEOS's shrink (reflex vertex of its grow) stands for a corner of the exact
+        # offsets, off by up to GEOS's simplification (about r/100, more beside near-tangent necks): each
+        # is moved onto the nearest exact corner within GUIDE_MISSING_R·r.
+        window = max(_search_window(S, r, self.q_exact)[0], GUIDE_MISSING_R * r)
         self.E = snap_onto(E, self.centers.xy[self.centers.side == 1], 1, window)
         self.G = snap_onto(G, self.centers.xy[self.centers.side == -1], -1, window)
         self.cxy, self.cside = _distinct_centers(self.centers.xy, self.centers.side.astype(np.int64), r)
@@ -977,6 +980,23 @@ def _exact_depths(ctx: _Context, L: _DiskLoop, limit: float = 0.0) -> tuple[floa
     if len(ctx.oedges) == 0:
         return depth[1], depth[-1]
     owner = np.array(owner, dtype=np.int64)
+    # A loop's disk may sit off the exact corner it stands for by that corner's own rounding (the fast
+    # path solves corners from S's vertices; an acute corner's position is ill-conditioned): that offset,
+    # up to CENTRE_ROUNDING_R·r or a thousand times the coordinates' precision, moves the disk's pieces
+    # as much and is not an entry.
+    off = np.zeros(L.n)
+    if ctx.ckd is not None and L.n:
+        d, _ = ctx.ckd.query(L.c)
+        off = np.where(d <= max(CENTRE_ROUNDING_R * r, 1e3 * ctx.precision), d, 0.0)
+    allow = np.zeros(len(pieces))
+    n_disk = L.n
+    pi = 0
+    for d_i, (k, g, length) in enumerate(L.pieces()):
+        if not (length > 0 or k == "arc"):
+            continue
+        disk = d_i // 2
+        allow[pi] = off[disk] if k == "arc" else max(off[disk], off[(disk + 1) % n_disk])
+        pi += 1
     reach = r - limit + ctx.osag + sag + 1e-12 * r
     ci, ei = ctx.oindex.near_segments(np.concatenate(cp), np.concatenate(cq), reach)
     li, pj = owner[ci], ctx.opiece[ei]
@@ -987,8 +1007,8 @@ def _exact_depths(ctx: _Context, L: _DiskLoop, limit: float = 0.0) -> tuple[floa
     for i, j in zip(li[first].tolist(), pj[first].tolist()):
         side, piece = ctx.opieces[j]
         d, _, _ = piece_distance(pieces[i], piece)
-        if r - d > max(depth[side], limit):
-            depth[side] = r - d
+        if r - d - allow[i] > max(depth[side], limit):
+            depth[side] = r - d - allow[i]
     return depth[1], depth[-1]
 
 

@@ -7,6 +7,7 @@ Lengths are given either relative to the radius ``r`` (``*_R``) or relative to t
 __all__ = [
     "ANGLE_ZERO",
     "CENTER_SEARCH_R",
+    "CENTRE_ROUNDING_R",
     "DEFAULT_TOLERANCE_R",
     "DOMAIN_CHORD_R",
     "EXACT_CHORD_R",
@@ -73,6 +74,11 @@ OBSTACLE_SAG_R = 1e-6
 # this (relative to r) from GEOS's buffers: parts exactly 2r wide, and gaps exactly 2r wide. Nearer ones
 # are GEOS's simplification (up to about r/100), which the exact finish corrects on its own.
 GUIDE_MISSING_R = 0.02
+
+# `verify()` allows a loop's disk to sit this far (relative to r) from the exact corner it stands for, and
+# discounts that offset from the loop's depth: an acute corner's position is ill-conditioned (the offset
+# lines meet at the corner's angle), so two exact solvers agree only to rounding over that angle.
+CENTRE_ROUNDING_R = 1e-6
 
 # `verify()` reports a loop that comes nearer than r to the exact shrink of S or of its complement by more
 # than this (relative to r; at least a few units in the last place of the coordinates).
