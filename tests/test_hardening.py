@@ -122,6 +122,47 @@ def test_mason_fast_path_and_general_engine_agree():
     assert fast.verify() == [] and general.verify() == []
 
 
+def holed_square(n, seed=3):
+    """A square with n × n random 9-gon holes (the shape of benchmarks/bench_mason_holes.py)."""
+    rng = np.random.default_rng(seed)
+    holes = []
+    for i in range(n):
+        for j in range(n):
+            th = np.sort(rng.uniform(0, 2 * np.pi, 9))
+            rad = rng.uniform(1.5, 4.0, 9)
+            holes.append(Polygon(np.column_stack([8.5 + 12 * i + rad * np.cos(th), 8.5 + 12 * j + rad * np.sin(th)])))
+    return box(0, 0, 12 * n + 5, 12 * n + 5).difference(shapely.union_all(holes))
+
+
+@pytest.mark.parametrize("n, r", [(1, 1.0), (2, 1.0), (2, 1.5)])
+def test_mason_lies_exactly_between_core_and_fillet_on_holes(n, r):
+    """Overlay vertices an ulp outside the fillet (where a pocket thins out) are moved back: no slack."""
+    S = holed_square(n)
+    M = vt.mason(S, r)
+    R, F = vt.core(S, r), vt.fillet(S, r)
+    assert M.is_valid and F.covers(M) and M.covers(R)
+    assert R.area < M.area < F.area
+
+
+def test_mason_inclusion_repair_moves_only_stray_vertices():
+    """`_between`: a vertex an ulp outside F comes back, an F vertex an edge passes an ulp beyond is
+    inserted into it; a real violation is left for the caller to see."""
+    from vectortighten.morphology import _between
+
+    F = Polygon([(0, 0), (4, 0), (4, 4), (2, 2.5), (0, 4)])          # a reflex vertex at (2, 2.5)
+    R = box(1, 0.5, 3, 1.5)
+    up = np.nextafter(4.0, 5.0)
+    beyond = np.nextafter(2.5, 3.0)
+    for geom in (Polygon([(0, 0), (4, 0), (up, 2), (2.5, 2), (0, 2)]),                 # an ulp outside
+                 Polygon([(0, 0), (4, 0), (4, 2), (2.5, beyond), (1.5, beyond), (0, 2)])):   # across the vertex
+        assert not F.covers(geom) and geom.covers(R)
+        fixed = _between(geom, R, F)
+        assert fixed.is_valid and F.covers(fixed) and fixed.covers(R)
+        assert abs(fixed.area - geom.area) < 1e-12
+    deep = Polygon([(0, 0), (4, 0), (4, 3), (0, 3)])                 # 0.5 over the reflex vertex
+    assert _between(deep, R, F) is deep
+
+
 def test_polygon_at_its_inradius_has_no_rounding_pieces():
     n = 256
     g = Polygon([(math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n)) for k in range(n)])

@@ -21,6 +21,7 @@ from shapely.geometry import MultiPolygon, Polygon, box
 from shapely.geometry.base import BaseGeometry
 
 from ._validation import check_radius, check_shape, check_tolerance, quad_segs_for
+from .tolerances import ZERO_SCALE
 
 __all__ = [
     "anticore",
@@ -278,16 +279,16 @@ def _nudge(geom: Polygonal, S: Polygonal, into: bool) -> Polygonal:
     return geom
 
 
-def _core(S: Polygonal, r: float, q: int) -> Polygonal:
-    E = _shrink(S, r, q)
+def _core(S: Polygonal, r: float, q: int, centres: bool = True) -> Polygonal:
+    E = _shrink(S, r, q) if centres else _shrink_raw(S, r, q)
     if E.is_empty:
         return Polygon()
     R = _polygonal(shapely.intersection(_grow_raw(E, r, q), S))
     return _orient(_nudge(R, S, into=True))
 
 
-def _fillet(S: Polygonal, r: float, q: int) -> Polygonal:
-    G = _grow(S, r, q)
+def _fillet(S: Polygonal, r: float, q: int, centres: bool = True) -> Polygonal:
+    G = _grow(S, r, q) if centres else _grow_raw(S, r, q)
     F = _polygonal(shapely.union(_shrink_raw(G, r, q), S))
     return _orient(_nudge(F, S, into=False))
 
@@ -584,12 +585,13 @@ def mason(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     M = _polygonal(shapely.difference(F, R))
     if M.is_empty:
         return R
-    RF = _core(F, r, q)
-    FR = _fillet(R, r, q) if not R.is_empty else R
+    # The second opening and closing work on chords of arcs of radius r: the exact centres that `_core`
+    # and `_fillet` refine from S's own features would be refined from those chords here (a third of
+    # Mason's time on many holes, and no more exact), so their vertices stay GEOS's.
+    RF = _core(F, r, q, centres=False)
+    FR = _fillet(R, r, q, centres=False) if not R.is_empty else R
     parts = _pockets(M, 2.0 * check_tolerance(tolerance, r))
-    in_s = shapely.intersection(parts, S)
-    in_rf = shapely.intersection(parts, RF)
-    in_fr = shapely.intersection(parts, FR)
+    in_s, in_rf, in_fr = (_per_part(parts, X) for X in (S, RF, FR))
     d_rf = shapely.area(shapely.symmetric_difference(in_rf, in_s))
     d_fr = shapely.area(shapely.symmetric_difference(in_fr, in_s))
     chosen = [rf if a <= b else fr for rf, fr, a, b in zip(in_rf, in_fr, d_rf, d_fr)]
@@ -600,6 +602,22 @@ def mason(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     out = _polygonal(shapely.union(out, R))
     out = _nudge(out, R, into=False)
     return _orient(_between(out, R, F))
+
+
+def _per_part(parts: list[Polygon], X: Polygonal) -> np.ndarray:
+    """``P ∩ X`` for every pocket P, each overlay given only X clipped to (a hair around) P's box.
+
+    An overlay of a small pocket with the whole of X costs the size of X every time (hundreds of pockets
+    on a shape with many holes); ``clip_by_rect`` is a linear scan without noding, and leaves the overlay
+    the few edges that matter. The clip is exact inside the box, which holds P.
+    """
+    if not parts or X.is_empty:
+        return shapely.intersection(np.asarray(parts, dtype=object), X)
+    x0, y0, x1, y1 = X.bounds
+    pad = 1e-6 * max(x1 - x0, y1 - y0)
+    local = [shapely.clip_by_rect(X, p0 - pad, q0 - pad, p1 + pad, q1 + pad)
+             for p0, q0, p1, q1 in shapely.bounds(parts).tolist()]
+    return shapely.intersection(np.asarray(parts, dtype=object), np.asarray(local, dtype=object))
 
 
 def _between(geom: Polygonal, R: Polygonal, F: Polygonal) -> Polygonal:
@@ -624,20 +642,28 @@ def _between(geom: Polygonal, R: Polygonal, F: Polygonal) -> Polygonal:
 
     if holds(geom):
         return geom
+    x0, y0, x1, y1 = F.bounds
+    # How far rounding can put a vertex: the old snap's reach, or a few hundred ulps of the coordinates.
+    reach = max(ZERO_SCALE * max(x1 - x0, y1 - y0), 256.0 * float(np.spacing(max(map(abs, F.bounds)))))
     parts = [_orient(p) for p in shapely.get_parts(geom)]
     rings = [shapely.get_coordinates(ring) for p in parts for ring in shapely.get_rings(p)]
     cf, cr = shapely.get_coordinates(F), shapely.get_coordinates(R)
     extra = np.concatenate([cf[shapely.contains_xy(geom, cf[:, 0], cf[:, 1])],
                             cr[~shapely.intersects_xy(geom, cr[:, 0], cr[:, 1])]])
     if len(extra):
-        rings = _insert_into_edges(rings, extra)
+        rings = _insert_into_edges(rings, extra, reach)
+        if rings is None:
+            return geom                               # a vertex far inside (outside): a real violation
     coords = np.concatenate(rings)
     fixed = _keys_in(coords, np.concatenate([cf, cr]))
     for target, inside in ((F, True), (R, False)):
         x, y = coords[:, 0], coords[:, 1]
         bad = ~fixed & (~shapely.intersects_xy(target, x, y) if inside else shapely.contains_xy(target, x, y))
         if bad.any():
-            coords[bad] = _onto(coords[bad], target, F, R)
+            moved = _onto(coords[bad], target, F, R, reach)
+            if moved is None:
+                return geom
+            coords[bad] = moved
     x, y = coords[:, 0], coords[:, 1]
     drop = ~fixed & (~shapely.intersects_xy(F, x, y) | shapely.contains_xy(R, x, y))
     out, k = [], 0
@@ -671,12 +697,16 @@ def _keys_in(coords: np.ndarray, pool: np.ndarray) -> np.ndarray:
     return keys[np.clip(np.searchsorted(keys, k), 0, len(keys) - 1)] == k
 
 
-def _insert_into_edges(rings: list[np.ndarray], points: np.ndarray) -> list[np.ndarray]:
-    """Closed rings with each point inserted into the edge nearest to it, in order along the edge."""
+def _insert_into_edges(rings: list[np.ndarray], points: np.ndarray, reach: float) -> list[np.ndarray] | None:
+    """Closed rings with each point inserted into the edge nearest to it, in order along the edge; None if
+    a point is farther than ``reach`` from every edge."""
     a = np.concatenate([c[:-1] for c in rings])
     b = np.concatenate([c[1:] for c in rings])
     tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
-    edge = tree.query_nearest(shapely.points(points), all_matches=False)[1]
+    edge, dist = tree.query_nearest(shapely.points(points), all_matches=False, return_distance=True)
+    edge = edge[1]
+    if (dist > reach).any():
+        return None
     d = b[edge] - a[edge]
     t = np.einsum("ij,ij->i", points - a[edge], d) / np.einsum("ij,ij->i", d, d)
     order = np.lexsort((t, edge))
@@ -694,16 +724,19 @@ def _insert_into_edges(rings: list[np.ndarray], points: np.ndarray) -> list[np.n
     return out
 
 
-def _onto(points: np.ndarray, target: Polygonal, F: Polygonal, R: Polygonal) -> np.ndarray:
+def _onto(points: np.ndarray, target: Polygonal, F: Polygonal, R: Polygonal, reach: float) -> np.ndarray | None:
     """Each point projected onto the nearest edge of ``target``, then moved along that edge's normal by
     the fewest ulps (0, 1, 2, 4, … either way) that put it in ``closure(F) − interior(R)``; a point for
-    which 64 steps are not enough is left where it was."""
+    which 64 steps are not enough is left where it was. None if a point is farther than ``reach`` from
+    ``target``'s boundary (not a rounding error)."""
     a, b = _edges(_orient(target))
     tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
     edge = tree.query_nearest(shapely.points(points), all_matches=False)[1]
     d = b[edge] - a[edge]
     t = np.clip(np.einsum("ij,ij->i", points - a[edge], d) / np.einsum("ij,ij->i", d, d), 0.0, 1.0)
     foot = a[edge] + t[:, None] * d
+    if (np.hypot(*(foot - points).T) > reach).any():
+        return None
     normal = np.column_stack([-d[:, 1], d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
     ulp = np.spacing(np.abs(foot).max(axis=1))[:, None]
     out = points.copy()
