@@ -25,6 +25,8 @@ import numpy as np
 import shapely
 from shapely.geometry import LinearRing, Polygon
 
+from .tolerances import CORNER_ANGLE, rounding_length
+
 __all__ = [
     "Arc",
     "Loop",
@@ -620,14 +622,58 @@ class Loop:
         corner = np.where(np.isfinite(corner), corner, 0.0)
         return math.fsum((self._data[self._arc, 4]).tolist()) + math.fsum(corner.tolist())
 
-    def is_g1(self, atol: float = 1e-9) -> bool:
-        """True if every join between pieces is tangent-continuous within ``atol`` radians."""
-        return bool((self.corner_angles() <= atol).all())
+    def is_g1(self, atol: float = 1e-9, rounding: float = 0.0) -> bool:
+        """True if every join between pieces is tangent-continuous within ``atol`` radians.
+
+        Parameters
+        ----------
+        atol : float
+            Largest angle between the tangents at a join, radians.
+        rounding : float, optional
+            A length (the loop's units) by which the end points of its segments may be off by rounding
+            (see `tolerances.rounding_length`); a segment of length L then has a direction known to
+            ``rounding / L`` radians only, and a join may miss tangency by that much more on either side.
+
+        Examples
+        --------
+        A stadium at 1e12, where an ulp is 1.2e-4: one end of a tangent rounded by an ulp turns it by
+        1.2e-4 rad, a corner unless the rounding of the coordinates is allowed for.
+
+        >>> far, ulp = 1e12, math.ulp(1e12)
+        >>> L = Loop([Arc((far, 1.0), 1.0, 0.0, math.pi), Segment((far - 1.0, 1.0), (far - 1.0 + ulp, 0.0)),
+        ...           Arc((far, 0.0), 1.0, math.pi, math.pi), Segment((far + 1.0, 0.0), (far + 1.0, 1.0))],
+        ...          atol=1e-3)
+        >>> L.is_g1(1e-7), L.is_g1(1e-7, rounding=L.rounding())
+        (False, True)
+        """
+        angles = self.corner_angles()
+        if rounding <= 0.0:
+            return bool((angles <= atol).all())
+        return bool((angles <= self._join_bounds(atol, rounding)).all())
+
+    def _join_bounds(self, atol: float, rounding: float) -> np.ndarray:
+        """Per join (piece i to piece i + 1): ``atol`` plus ``rounding / L`` for each segment of length L
+        beside it (an arc's tangents come from its angles, not from rounded points)."""
+        d = self._data
+        length = np.hypot(d[:, 2] - d[:, 0], d[:, 3] - d[:, 1])
+        with np.errstate(divide="ignore"):
+            slack = np.where(self._arc, 0.0, rounding / length)
+        return atol + slack + np.roll(slack, -1)
+
+    def rounding(self) -> float:
+        """The length below which this loop's own numbers are rounding (`tolerances.rounding_length` of its
+        size and its largest coordinate)."""
+        x0, y0, x1, y1 = self.bounds
+        return rounding_length(max(x1 - x0, y1 - y0), max(abs(x0), abs(y0), abs(x1), abs(y1)))
 
     @property
     def min_radius_of_curvature(self) -> float:
-        """Exact minimum radius of curvature: the smallest arc radius, 0 if a join has a corner, else inf."""
-        if not self.is_g1(1e-7):
+        """Exact minimum radius of curvature: the smallest arc radius, 0 if a join has a corner, else inf.
+
+        A join is a corner if its tangents differ by more than `tolerances.CORNER_ANGLE` beyond what the
+        rounding of the loop's coordinates explains (`is_g1` with ``rounding``).
+        """
+        if not self.is_g1(CORNER_ANGLE, self.rounding()):
             return 0.0
         radii = self.radii
         return float(radii.min()) if len(radii) else math.inf
