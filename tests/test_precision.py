@@ -109,3 +109,43 @@ def test_resolution_scale_is_the_size_near_the_origin_and_the_ulps_far_from_it()
     for big in (1e9, 1e12, 1e15):
         assert rounding_length(10.0, big) == pytest.approx(16 * math.ulp(big))
         assert resolution_scale(10.0, big) > 10.0
+
+
+# ---------------------------------------------------------------------------------------------------------
+# Tiny pieces (1e-16–1e-10 long) are merged or dropped where loops are assembled, exactly
+# ---------------------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("n", [64, 256, 1024])
+def test_polygon_at_its_inradius_is_one_circle(n):
+    """The shrink is a point: n nearly coincident disks (tangents of 0–1e-15) merge into one full arc."""
+    r = math.cos(math.pi / n)
+    T = vt.tighten(ngon(n), r)
+    assert T.verify() == []
+    assert len(T.loops) == 1 and len(T.loops[0].pieces) == 1
+    arc = T.loops[0].pieces[0]
+    assert arc.radius == r and arc.sweep == pytest.approx(2 * math.pi, abs=1e-12)
+    assert T.area == pytest.approx(math.pi * r * r, rel=1e-12)
+    assert T.min_radius_of_curvature == r
+
+
+def disk_loop(c, s, r):
+    from vectortighten.curves import arc_sweeps, tangent_directions
+
+    c, s = np.asarray(c, float), np.asarray(s, float)
+    phi, length, ok = tangent_directions(c, s, r)
+    assert ok.all()
+    return c, s, phi, length, arc_sweeps(phi, s, None)
+
+
+@pytest.mark.parametrize("gap", [1e-16, 1e-13, 1e-11])
+def test_speck_between_disks_of_one_side_merges_them_g1(gap):
+    """A stadium with a third disk ``gap`` from one end: the two end disks become one arc."""
+    c, s, phi, length, sweeps = disk_loop([(0, 0), (gap, 0), (4, 0)], [1, 1, 1], 1.0)
+    loop = Loop._from_disk_arrays(c, s, 1.0, phi, length, sweeps)
+    kinds = [type(p).__name__ for p in loop.pieces]
+    assert kinds.count("Arc") == 2 and kinds.count("Segment") == 2
+    assert loop.is_g1(1e-12)
+    assert loop.length == pytest.approx(2 * math.pi + 8, abs=1e-9)
+    assert abs(loop.area) == pytest.approx(math.pi + 8, abs=1e-9)
+    start, end = loop._ends()
+    assert np.hypot(*(end - np.roll(start, -1, axis=0)).T).max() <= max(gap, 1e-15)
+

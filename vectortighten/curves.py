@@ -25,7 +25,7 @@ import numpy as np
 import shapely
 from shapely.geometry import LinearRing, Polygon
 
-from .tolerances import CORNER_ANGLE, rounding_length
+from .tolerances import CORNER_ANGLE, SPECK_SCALE, rounding_length
 
 __all__ = [
     "Arc",
@@ -285,6 +285,47 @@ class Arc:
 Piece = Segment | Arc
 
 
+def _speck_length(c: np.ndarray, r: float) -> float:
+    """`SPECK_SCALE` of the extent of a loop of disks of radius r centred at ``c`` (its own units)."""
+    extent = float(np.ptp(c, axis=0).max()) + 2.0 * abs(float(r)) if len(c) else 0.0
+    return SPECK_SCALE * extent
+
+
+def _merge_specks(c, s, r, phi, length, sweeps):
+    """Disks joined by a speck tangent (shorter than `_speck_length`) on the same side, merged into one.
+
+    A run of disks ``i, i + 1, …, j`` whose tangents are all specks and whose sides agree becomes disk i
+    with the run's total sweep, leaving along disk j's outgoing tangent. The merged arc ends where disk
+    j's arc ended, moved by ``c_i − c_j`` (shorter than the specks), and its end tangent is that
+    tangent's direction exactly: the join stays G1, the gap is within the loop's closing tolerance.
+    A speck between disks of opposite sides (an inflection) is left to be dropped: both arcs are already
+    tangent to its direction.
+
+    Returns the arrays ``(c, s, phi, length, sweeps)``, unchanged if nothing merges.
+    """
+    n = len(c)
+    if n < 2:
+        return c, s, phi, length, sweeps
+    # For one side the tangent's length is the distance between the centres: judged on the centres.
+    gap = np.hypot(*(np.roll(c, -1, axis=0) - c).T)
+    merge_next = (gap <= _speck_length(c, r)) & (s == np.roll(s, -1))
+    merged = np.roll(merge_next, 1)                   # disk k is merged into the one before it
+    if not merged.any():
+        return c, s, phi, length, sweeps
+    if merged.all():
+        # One disk all round (the shrink is a point): a full circle.
+        k = 0
+        return c[k:k + 1], s[k:k + 1], phi[-1:], length[-1:], np.array([sweeps.sum()])
+    first = int(np.flatnonzero(~merged)[0])
+    order = np.roll(np.arange(n), -first)
+    lead = ~merged[order]
+    group = np.cumsum(lead) - 1
+    starts = np.flatnonzero(lead)
+    ends = np.r_[starts[1:] - 1, n - 1]
+    total = np.bincount(group, weights=sweeps[order])
+    return (c[order[starts]], s[order[starts]], phi[order[ends]], length[order[ends]], total)
+
+
 class Loop:
     """A closed curve of `Segment` and `Arc` pieces, each starting where the previous one ends.
 
@@ -442,8 +483,16 @@ class Loop:
 
         With ``affine = (scale, dx, dy)`` the loop comes out under ``p -> scale·p + (dx, dy)`` at once: the
         same numbers as ``_from_disk_arrays(c, s, r, phi, length, sweeps).affine(scale, dx, dy)``.
+
+        Tangents shorter than `SPECK_SCALE` of the loop's extent are specks (`_merge_specks`): between
+        two disks of one side (a run of nearly coincident disks, as when the shrink is a point) the disks
+        are merged into one arc; between disks of opposite sides the tangent is dropped.
         """
+        c, s, phi, length, sweeps = _merge_specks(np.asarray(c, float), np.asarray(s, float), r,
+                                                  np.asarray(phi, float), np.asarray(length, float),
+                                                  np.asarray(sweeps, float))
         n = len(c)
+        eps = _speck_length(c, r)
         nx, ny = -np.sin(phi), np.cos(phi)              # left normal of each tangent
         sr, sr_next = s * r, np.roll(s, -1) * r
         cx, cy = c[:, 0], c[:, 1]
@@ -470,7 +519,7 @@ class Loop:
         arc = np.zeros(2 * n, dtype=bool)
         arc[0::2] = True
         keep = np.empty(2 * n, dtype=bool)
-        keep[0::2], keep[1::2] = arcs[4] != 0.0, length > 0
+        keep[0::2], keep[1::2] = arcs[4] != 0.0, length > eps
         if keep.all():
             return cls._from_arrays(arc, data)
         if not keep.any():

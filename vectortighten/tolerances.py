@@ -20,6 +20,7 @@ __all__ = [
     "MAX_QUAD_SEGS",
     "PENETRATION_R",
     "ROUNDING_ULPS",
+    "SPECK_SCALE",
     "THICKEN_R",
     "TOUCH_SCALE",
     "ZERO_SCALE",
@@ -124,3 +125,9 @@ def rounding_length(size: float, largest: float) -> float:
     16
     """
     return ZERO_SCALE * resolution_scale(size, largest)
+
+#: A tangent of a tight loop shorter than this fraction of the loop's extent is a speck of rounding (the
+#: tangents between nearly coincident disks, 1e-16–1e-10 long: their directions are noise). Between two
+#: disks of one side the disks are merged into one arc; between opposite sides the tangent is dropped.
+#: Either way the loop stays G1 and moves by less than the speck (the loop's closing tolerance is 1e-9).
+SPECK_SCALE = 1e-10
