@@ -336,6 +336,9 @@ def use_bomb(levels=11, fan=10):
 
 
 BIG = "1" + "0" * 399
+FUZZ_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100"><g transform="rotate(10) scale(2)">'
+            '<rect x="10" y="10" width="30" height="20" rx="3"/><circle cx="50" cy="50" r="8"/>'
+            '<path d="M 5 5 L 40 5 A {arc} 10 0 0 1 40 25 Q {q} Z" fill-rule="evenodd"/></g></svg>')
 BAD_FILES = {
     "deep.geojson": '{"type":"GeometryCollection","geometries":[' * 100000 + "]}" * 100000,
     "deeparray.geojson": '{"type":"Polygon","coordinates":' + "[" * 100000 + "]" * 100000 + "}",
@@ -354,6 +357,11 @@ BAD_FILES = {
     "badcurve.wkt": "CURVEPOLYGON(CIRCULARSTRING(0 0, 4 0))",
     "openring.wkt": "CURVEPOLYGON(CIRCULARSTRING(0 0, 2 2, 4 0))",
     "nopolygon.wkt": "GEOMETRYCOLLECTION(POINT(0 0), LINESTRING(0 0, 1 1))",
+    # found by benchmarks/fuzz_cli.py (seed 23): an infinite Bézier control point (OverflowError), and
+    # coordinates of 1e50 whose polygonized faces overlap by rounding (GEOS CoverageUnion)
+    "qinf.svg": svg('<path d="M 5 5 L 40 5 A 10 10 0 0 1 40 25 Q 201e308 40 5 25 Z"/>'),
+    "q1e50.svg": FUZZ_SVG.format(arc="10", q="20 40 5" + "9" * 50 + " 25"),
+    "arc1e52.svg": FUZZ_SVG.format(arc="9" * 50 + "10", q="20 40 5 25"),
 }
 
 

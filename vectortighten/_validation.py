@@ -207,7 +207,8 @@ def _close_cracks(S, name: str):
     if not keep.any():
         return S
     i, j = i[keep], j[keep]
-    grown = shapely.buffer(parts, eps, join_style="mitre", mitre_limit=10.0)
+    with np.errstate(invalid="ignore", over="ignore"):      # coordinates near 1e50: judged below
+        grown = shapely.buffer(parts, eps, join_style="mitre", mitre_limit=10.0)
     # A crack of length L makes the eps-grown parts overlap by about 2·eps·L. Parts touching at a point
     # overlap too, in the wedge between them: about (2·eps)² at a right angle, but 20·eps² where a 16-gon's
     # vertex meets an edge (a hole touching its shell), and closing that wedge would join the parts.
@@ -217,7 +218,8 @@ def _close_cracks(S, name: str):
     if not cracked.any():
         return S
     involved = np.unique(np.concatenate([i[cracked], j[cracked]]))
-    closed = shapely.union_all(grown[involved]).buffer(-eps, join_style="mitre", mitre_limit=10.0)
+    with np.errstate(invalid="ignore", over="ignore"):
+        closed = shapely.union_all(grown[involved]).buffer(-eps, join_style="mitre", mitre_limit=10.0)
     rest = np.setdiff1d(np.arange(len(parts)), involved)
     merged = shapely.union_all(np.append(parts[rest], closed))
     if not merged.is_valid or merged.is_empty or shapely.get_num_geometries(merged) >= len(parts):
