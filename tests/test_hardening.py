@@ -163,6 +163,30 @@ def test_mason_inclusion_repair_moves_only_stray_vertices():
     assert _between(deep, R, F) is deep
 
 
+def test_touching_parts_leave_the_fast_path():
+    """Found by benchmarks/fuzz_api.py (seed 24): two spikes whose bases cross; the repair leaves two parts
+    sharing a vertex, the fast path's loops touched there and came back converged (verify: "two loops
+    touch"). Now the general engine takes it: one component, verify clean."""
+    S = shapely.from_wkt("POLYGON ((0 0, 9.45214818416385 0, 9.47714818416385 -1.0168370714072816, "
+                         "9.50214818416385 0, 9.499999999999998 0, 9.500499999999999 -2.3618278214199977, "
+                         "9.500999999999998 0, 10 0, 10 10, 0 10, 0 0))")
+    T = right_or_loud(S, 1.2361827821419997e-06, init="core")
+    assert T is not None and T.converged
+    assert T._cache["_path"] == "general" and T.n_components == 1
+
+
+def test_a_collapsed_part_beside_an_invalid_one_is_repaired():
+    """Found by benchmarks/fuzz_api.py (seed 24, a star at 1e9 whose rounding collapsed one part to a
+    point): GEOS's make_valid refuses the whole ("Overlay input is mixed-dimension"); the parts are now
+    repaired one by one and the point dropped."""
+    S = shapely.from_wkt("MULTIPOLYGON (((5 5, 5 5, 5 5, 5 5)), ((0 0, 2 2, 2 0, 0 2, 0 0)))")
+    with pytest.warns(vt.RepairWarning, match="repaired"):
+        T = vt.tighten(S, 0.05)
+    assert T.converged and T.verify() == []
+    assert T.n_components == 2                  # the bow-tie's two triangles; nothing at (5, 5)
+    assert T.shape.bounds[2] <= 2.0
+
+
 def test_polygon_at_its_inradius_has_no_rounding_pieces():
     n = 256
     g = Polygon([(math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n)) for k in range(n)])

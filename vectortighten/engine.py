@@ -1304,6 +1304,10 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
         geometry, valid = _assemble_valid(loops, tol)
         if not (valid or geometry.is_valid) or geometry.is_empty:
             fast = None
+        elif len(disk_loops) > 1 and _contacts(_Radius(r_l), disk_loops):
+            # Parts of S that touch (a repaired self-intersection leaves two parts sharing a vertex): their
+            # loops touch too, and only the general engine's surgery separates or joins them.
+            fast = None
     if fast is None:
         ctx = _Context(S_local, r_l, tol_l)
         rings = _initial_rings(ctx, S_local, init)
