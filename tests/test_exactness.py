@@ -111,9 +111,15 @@ KNOWN = {
                                                  'verify': 'issue 25: verify() silent while the oracle '
                                                            'measures core 1.1e-09·r, anticore 3e-10·r'},
     'neck 2r(1-1e-06) a30@1234.5,-678.25|core': {   'exact': 'issue 25: enters by core 4.4e-09·r, '
-                                                             'anticore 1.3e-11·r'},
+                                                             'anticore 1.3e-11·r',
+                                                    'verify': 'issue 25: verify() silent while the oracle '
+                                                              'measures core 4.4e-09·r (its corner report '
+                                                              'was rounding: a 1e-6 tangent at 1234)'},
     'neck 2r(1-1e-06) a61@-30000,20000|core': {   'exact': 'issue 25: enters by core 1.1e-07·r, '
-                                                           'anticore 3e-10·r'},
+                                                           'anticore 3e-10·r',
+                                                  'verify': 'issue 25: verify() silent while the oracle '
+                                                            'measures core 1.1e-07·r (its corner report '
+                                                            'was rounding: a 1e-6 tangent at 3e4)'},
     'neck 2r(1-1e-06) a61@-30000,20000|input': {   'verify': 'verify() reports a problem (corner/other) '
                                                              'though the oracle finds it exact (core '
                                                              '3e-10·r, anticore 3e-10·r)'},

@@ -122,6 +122,71 @@ def test_mason_fast_path_and_general_engine_agree():
     assert fast.verify() == [] and general.verify() == []
 
 
+def holed_square(n, seed=3):
+    """A square with n × n random 9-gon holes (the shape of benchmarks/bench_mason_holes.py)."""
+    rng = np.random.default_rng(seed)
+    holes = []
+    for i in range(n):
+        for j in range(n):
+            th = np.sort(rng.uniform(0, 2 * np.pi, 9))
+            rad = rng.uniform(1.5, 4.0, 9)
+            holes.append(Polygon(np.column_stack([8.5 + 12 * i + rad * np.cos(th), 8.5 + 12 * j + rad * np.sin(th)])))
+    return box(0, 0, 12 * n + 5, 12 * n + 5).difference(shapely.union_all(holes))
+
+
+@pytest.mark.parametrize("n, r", [(1, 1.0), (2, 1.0), (2, 1.5)])
+def test_mason_lies_exactly_between_core_and_fillet_on_holes(n, r):
+    """Overlay vertices an ulp outside the fillet (where a pocket thins out) are moved back: no slack."""
+    S = holed_square(n)
+    M = vt.mason(S, r)
+    R, F = vt.core(S, r), vt.fillet(S, r)
+    assert M.is_valid and F.covers(M) and M.covers(R)
+    assert R.area < M.area < F.area
+
+
+def test_mason_inclusion_repair_moves_only_stray_vertices():
+    """`_between`: a vertex an ulp outside F comes back, an F vertex an edge passes an ulp beyond is
+    inserted into it; a real violation is left for the caller to see."""
+    from vectortighten.morphology import _between
+
+    F = Polygon([(0, 0), (4, 0), (4, 4), (2, 2.5), (0, 4)])          # a reflex vertex at (2, 2.5)
+    R = box(1, 0.5, 3, 1.5)
+    up = np.nextafter(4.0, 5.0)
+    beyond = np.nextafter(2.5, 3.0)
+    for geom in (Polygon([(0, 0), (4, 0), (up, 2), (2.5, 2), (0, 2)]),                 # an ulp outside
+                 Polygon([(0, 0), (4, 0), (4, 2), (2.5, beyond), (1.5, beyond), (0, 2)])):   # across the vertex
+        assert not F.covers(geom) and geom.covers(R)
+        fixed = _between(geom, R, F)
+        assert fixed.is_valid and F.covers(fixed) and fixed.covers(R)
+        assert abs(fixed.area - geom.area) < 1e-12
+    deep = Polygon([(0, 0), (4, 0), (4, 3), (0, 3)])                 # 0.5 over the reflex vertex
+    assert _between(deep, R, F) is deep
+
+
+def test_touching_parts_leave_the_fast_path():
+    """Found by benchmarks/fuzz_api.py (seed 24): two spikes whose bases cross; the repair leaves two parts
+    sharing a vertex, the fast path's loops touched there and came back converged (verify: "two loops
+    touch"). Now the general engine takes it: one component, verify clean."""
+    S = shapely.from_wkt("POLYGON ((0 0, 9.45214818416385 0, 9.47714818416385 -1.0168370714072816, "
+                         "9.50214818416385 0, 9.499999999999998 0, 9.500499999999999 -2.3618278214199977, "
+                         "9.500999999999998 0, 10 0, 10 10, 0 10, 0 0))")
+    T = right_or_loud(S, 1.2361827821419997e-06, init="core")
+    assert T is not None and T.converged
+    assert T._cache["_path"] == "general" and T.n_components == 1
+
+
+def test_a_collapsed_part_beside_an_invalid_one_is_repaired():
+    """Found by benchmarks/fuzz_api.py (seed 24, a star at 1e9 whose rounding collapsed one part to a
+    point): GEOS's make_valid refuses the whole ("Overlay input is mixed-dimension"); the parts are now
+    repaired one by one and the point dropped."""
+    S = shapely.from_wkt("MULTIPOLYGON (((5 5, 5 5, 5 5, 5 5)), ((0 0, 2 2, 2 0, 0 2, 0 0)))")
+    with pytest.warns(vt.RepairWarning, match="repaired"):
+        T = vt.tighten(S, 0.05)
+    assert T.converged and T.verify() == []
+    assert T.n_components == 2                  # the bow-tie's two triangles; nothing at (5, 5)
+    assert T.shape.bounds[2] <= 2.0
+
+
 def test_polygon_at_its_inradius_has_no_rounding_pieces():
     n = 256
     g = Polygon([(math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n)) for k in range(n)])
@@ -299,6 +364,9 @@ def use_bomb(levels=11, fan=10):
 
 
 BIG = "1" + "0" * 399
+FUZZ_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100"><g transform="rotate(10) scale(2)">'
+            '<rect x="10" y="10" width="30" height="20" rx="3"/><circle cx="50" cy="50" r="8"/>'
+            '<path d="M 5 5 L 40 5 A {arc} 10 0 0 1 40 25 Q {q} Z" fill-rule="evenodd"/></g></svg>')
 BAD_FILES = {
     "deep.geojson": '{"type":"GeometryCollection","geometries":[' * 100000 + "]}" * 100000,
     "deeparray.geojson": '{"type":"Polygon","coordinates":' + "[" * 100000 + "]" * 100000 + "}",
@@ -317,6 +385,11 @@ BAD_FILES = {
     "badcurve.wkt": "CURVEPOLYGON(CIRCULARSTRING(0 0, 4 0))",
     "openring.wkt": "CURVEPOLYGON(CIRCULARSTRING(0 0, 2 2, 4 0))",
     "nopolygon.wkt": "GEOMETRYCOLLECTION(POINT(0 0), LINESTRING(0 0, 1 1))",
+    # found by benchmarks/fuzz_cli.py (seed 23): an infinite Bézier control point (OverflowError), and
+    # coordinates of 1e50 whose polygonized faces overlap by rounding (GEOS CoverageUnion)
+    "qinf.svg": svg('<path d="M 5 5 L 40 5 A 10 10 0 0 1 40 25 Q 201e308 40 5 25 Z"/>'),
+    "q1e50.svg": FUZZ_SVG.format(arc="10", q="20 40 5" + "9" * 50 + " 25"),
+    "arc1e52.svg": FUZZ_SVG.format(arc="9" * 50 + "10", q="20 40 5 25"),
 }
 
 

@@ -5,7 +5,8 @@
   once, without buffering by an r that may overflow.
 * Any exception of the engine on checked input becomes a `TighteningFailedError` naming what failed
   (a `MemoryError` and a `KeyboardInterrupt` pass through).
-* Pieces of a loop shorter than `ZERO_SCALE` of the shape's size (tangents of length 1e-16 between two
+* Pieces of a loop shorter than the rounding of the shape's numbers (`rounding_length`: `ZERO_SCALE` of
+  its size, or 16 ulps of its largest coordinate far from the origin; tangents of length 1e-16 between two
   arcs, left by rounding) are dropped: their direction is noise, and they read as corners.
 * Every result is checked before it is returned: its joins must be tangent (G1), and
   ``R_r(S) ⊆ T ⊆ F_r(S)`` must hold against the engine's own core
@@ -24,7 +25,7 @@ import shapely
 from shapely.geometry import Polygon
 
 from .errors import ConvergenceWarning, TighteningError, TighteningFailedError
-from .tolerances import THICKEN_R, ZERO_SCALE
+from .tolerances import CORNER_ANGLE, THICKEN_R, rounding_length
 
 __all__ = ["containment_problems", "drop_specks", "guarded_tighten", "vanishes"]
 
@@ -33,9 +34,6 @@ _SPECK_TURN = 1e-9
 
 #: Chords a quarter circle of the coarse buffers that check a result of the fast path.
 _COARSE_QUAD_SEGS = 4
-
-#: A join whose tangents differ by more than this (radians) is a corner (`Tightening.verify`'s bound).
-_CORNER = 1e-7
 
 #: A violation of the containment smaller than this share of r² is within rounding of the overlays.
 _AREA_R2 = 1e-3
@@ -117,8 +115,9 @@ def guarded_tighten(run, S, r: float, init, tol: float):
             f"the engine could not tighten this shape at r = {r:g} ({type(exc).__name__}"
             f"{': ' + text if text else ''}); please report it with the shape") from exc
     x0, y0, x1, y1 = S.bounds
-    result.loops = [drop_specks(loop, ZERO_SCALE * max(x1 - x0, y1 - y0)) for loop in result.loops]
-    problems = containment_problems(result) + _corner_problems(result)
+    rounding = rounding_length(max(x1 - x0, y1 - y0), max(abs(x0), abs(y0), abs(x1), abs(y1)))
+    result.loops = [drop_specks(loop, rounding) for loop in result.loops]
+    problems = containment_problems(result) + _corner_problems(result, rounding)
     if problems and result.converged:
         result.converged = False
         warnings.warn(f"the result fails its final check ({'; '.join(problems)}): returned with "
@@ -154,10 +153,12 @@ def drop_specks(loop, eps: float):
     return type(loop)._from_arrays(arc[keep], data[keep])
 
 
-def _corner_problems(result) -> list[str]:
-    """Joins that are not tangent (the radius of curvature would be 0 there), as `verify` judges them."""
-    worst = max((float(loop.corner_angles().max()) for loop in result.loops), default=0.0)
-    return [f"a loop has a corner of {worst:.3g} rad"] if worst > _CORNER else []
+def _corner_problems(result, rounding: float) -> list[str]:
+    """Joins that are not tangent (the radius of curvature would be 0 there), as `verify` judges them:
+    by more than `CORNER_ANGLE` beyond what the rounding of the segments' end points explains."""
+    bad = [loop for loop in result.loops if not loop.is_g1(CORNER_ANGLE, rounding)]
+    worst = max((float(loop.corner_angles().max()) for loop in bad), default=0.0)
+    return [f"a loop has a corner of {worst:.3g} rad"] if bad else []
 
 
 def _coarse(loops, tol: float):

@@ -101,6 +101,29 @@ def quad_segs_for(r: float, tolerance: float) -> int:
     return int(min(MAX_QUAD_SEGS, max(1, math.ceil((math.pi / 2) / step - 1e-9))))
 
 
+def _repaired(S, name: str, reason: str):
+    """The polygonal part of ``shapely.make_valid(S)``; part by part where
+    GEOS refuses the whole ("Overlay input is mixed-dimension": a part collapsed to a point or a line at
+    coordinates whose rounding is coarser than the part), leaving out the parts with fewer than three
+    distinct vertices."""
+
+    def polygonal(g):
+        polys = [p for p in getattr(g, "geoms", [g]) if p.geom_type in ("Polygon", "MultiPolygon")]
+        return shapely.union_all(polys) if polys else Polygon()
+
+    try:
+        return polygonal(shapely.make_valid(S))
+    except shapely.errors.GEOSException:
+        pass
+    try:
+        parts = [polygonal(shapely.make_valid(p)) for p in shapely.get_parts(S)
+                 if len(np.unique(shapely.get_coordinates(p.exterior), axis=0)) >= 3]
+        return shapely.union_all(parts) if parts else Polygon()
+    except shapely.errors.GEOSException as exc:
+        raise InvalidGeometryError(f"{name} is invalid ({reason}) and GEOS cannot repair it "
+                                   f"({str(exc).splitlines()[0]})") from None
+
+
 def check_shape(S, name: str = "S", *, allow_empty: bool = False) -> Polygon | MultiPolygon:
     """Return ``S`` as a valid, oriented (Multi)Polygon, or raise an error that names the problem.
 
@@ -136,9 +159,7 @@ def check_shape(S, name: str = "S", *, allow_empty: bool = False) -> Polygon | M
                                    "(areas would overflow)")
     if not S.is_valid:
         reason = shapely.is_valid_reason(S)
-        fixed = shapely.make_valid(S)
-        polys = [g for g in getattr(fixed, "geoms", [fixed]) if g.geom_type in ("Polygon", "MultiPolygon")]
-        fixed = shapely.union_all(polys) if polys else Polygon()
+        fixed = _repaired(S, name, reason)
         if fixed.is_empty or fixed.area == 0:
             raise InvalidGeometryError(f"{name} is invalid ({reason}) and has no area once repaired")
         warnings.warn(f"{name} was invalid ({reason}); repaired with shapely.make_valid", RepairWarning,
@@ -207,7 +228,8 @@ def _close_cracks(S, name: str):
     if not keep.any():
         return S
     i, j = i[keep], j[keep]
-    grown = shapely.buffer(parts, eps, join_style="mitre", mitre_limit=10.0)
+    with np.errstate(invalid="ignore", over="ignore"):      # coordinates near 1e50: judged below
+        grown = shapely.buffer(parts, eps, join_style="mitre", mitre_limit=10.0)
     # A crack of length L makes the eps-grown parts overlap by about 2·eps·L. Parts touching at a point
     # overlap too, in the wedge between them: about (2·eps)² at a right angle, but 20·eps² where a 16-gon's
     # vertex meets an edge (a hole touching its shell), and closing that wedge would join the parts.
@@ -217,7 +239,8 @@ def _close_cracks(S, name: str):
     if not cracked.any():
         return S
     involved = np.unique(np.concatenate([i[cracked], j[cracked]]))
-    closed = shapely.union_all(grown[involved]).buffer(-eps, join_style="mitre", mitre_limit=10.0)
+    with np.errstate(invalid="ignore", over="ignore"):
+        closed = shapely.union_all(grown[involved]).buffer(-eps, join_style="mitre", mitre_limit=10.0)
     rest = np.setdiff1d(np.arange(len(parts)), involved)
     merged = shapely.union_all(np.append(parts[rest], closed))
     if not merged.is_valid or merged.is_empty or shapely.get_num_geometries(merged) >= len(parts):

@@ -25,6 +25,8 @@ import numpy as np
 import shapely
 from shapely.geometry import LinearRing, Polygon
 
+from .tolerances import CORNER_ANGLE, SPECK_SCALE, rounding_length
+
 __all__ = [
     "Arc",
     "Loop",
@@ -283,6 +285,47 @@ class Arc:
 Piece = Segment | Arc
 
 
+def _speck_length(c: np.ndarray, r: float) -> float:
+    """`SPECK_SCALE` of the extent of a loop of disks of radius r centred at ``c`` (its own units)."""
+    extent = float(np.ptp(c, axis=0).max()) + 2.0 * abs(float(r)) if len(c) else 0.0
+    return SPECK_SCALE * extent
+
+
+def _merge_specks(c, s, r, phi, length, sweeps):
+    """Disks joined by a speck tangent (shorter than `_speck_length`) on the same side, merged into one.
+
+    A run of disks ``i, i + 1, …, j`` whose tangents are all specks and whose sides agree becomes disk i
+    with the run's total sweep, leaving along disk j's outgoing tangent. The merged arc ends where disk
+    j's arc ended, moved by ``c_i − c_j`` (shorter than the specks), and its end tangent is that
+    tangent's direction exactly: the join stays G1, the gap is within the loop's closing tolerance.
+    A speck between disks of opposite sides (an inflection) is left to be dropped: both arcs are already
+    tangent to its direction.
+
+    Returns the arrays ``(c, s, phi, length, sweeps)``, unchanged if nothing merges.
+    """
+    n = len(c)
+    if n < 2:
+        return c, s, phi, length, sweeps
+    # For one side the tangent's length is the distance between the centres: judged on the centres.
+    gap = np.hypot(*(np.roll(c, -1, axis=0) - c).T)
+    merge_next = (gap <= _speck_length(c, r)) & (s == np.roll(s, -1))
+    merged = np.roll(merge_next, 1)                   # disk k is merged into the one before it
+    if not merged.any():
+        return c, s, phi, length, sweeps
+    if merged.all():
+        # One disk all round (the shrink is a point): a full circle.
+        k = 0
+        return c[k:k + 1], s[k:k + 1], phi[-1:], length[-1:], np.array([sweeps.sum()])
+    first = int(np.flatnonzero(~merged)[0])
+    order = np.roll(np.arange(n), -first)
+    lead = ~merged[order]
+    group = np.cumsum(lead) - 1
+    starts = np.flatnonzero(lead)
+    ends = np.r_[starts[1:] - 1, n - 1]
+    total = np.bincount(group, weights=sweeps[order])
+    return (c[order[starts]], s[order[starts]], phi[order[ends]], length[order[ends]], total)
+
+
 class Loop:
     """A closed curve of `Segment` and `Arc` pieces, each starting where the previous one ends.
 
@@ -440,8 +483,16 @@ class Loop:
 
         With ``affine = (scale, dx, dy)`` the loop comes out under ``p -> scale·p + (dx, dy)`` at once: the
         same numbers as ``_from_disk_arrays(c, s, r, phi, length, sweeps).affine(scale, dx, dy)``.
+
+        Tangents shorter than `SPECK_SCALE` of the loop's extent are specks (`_merge_specks`): between
+        two disks of one side (a run of nearly coincident disks, as when the shrink is a point) the disks
+        are merged into one arc; between disks of opposite sides the tangent is dropped.
         """
+        c, s, phi, length, sweeps = _merge_specks(np.asarray(c, float), np.asarray(s, float), r,
+                                                  np.asarray(phi, float), np.asarray(length, float),
+                                                  np.asarray(sweeps, float))
         n = len(c)
+        eps = _speck_length(c, r)
         nx, ny = -np.sin(phi), np.cos(phi)              # left normal of each tangent
         sr, sr_next = s * r, np.roll(s, -1) * r
         cx, cy = c[:, 0], c[:, 1]
@@ -468,7 +519,7 @@ class Loop:
         arc = np.zeros(2 * n, dtype=bool)
         arc[0::2] = True
         keep = np.empty(2 * n, dtype=bool)
-        keep[0::2], keep[1::2] = arcs[4] != 0.0, length > 0
+        keep[0::2], keep[1::2] = arcs[4] != 0.0, length > eps
         if keep.all():
             return cls._from_arrays(arc, data)
         if not keep.any():
@@ -620,14 +671,58 @@ class Loop:
         corner = np.where(np.isfinite(corner), corner, 0.0)
         return math.fsum((self._data[self._arc, 4]).tolist()) + math.fsum(corner.tolist())
 
-    def is_g1(self, atol: float = 1e-9) -> bool:
-        """True if every join between pieces is tangent-continuous within ``atol`` radians."""
-        return bool((self.corner_angles() <= atol).all())
+    def is_g1(self, atol: float = 1e-9, rounding: float = 0.0) -> bool:
+        """True if every join between pieces is tangent-continuous within ``atol`` radians.
+
+        Parameters
+        ----------
+        atol : float
+            Largest angle between the tangents at a join, radians.
+        rounding : float, optional
+            A length (the loop's units) by which the end points of its segments may be off by rounding
+            (see `tolerances.rounding_length`); a segment of length L then has a direction known to
+            ``rounding / L`` radians only, and a join may miss tangency by that much more on either side.
+
+        Examples
+        --------
+        A stadium at 1e12, where an ulp is 1.2e-4: one end of a tangent rounded by an ulp turns it by
+        1.2e-4 rad, a corner unless the rounding of the coordinates is allowed for.
+
+        >>> far, ulp = 1e12, math.ulp(1e12)
+        >>> L = Loop([Arc((far, 1.0), 1.0, 0.0, math.pi), Segment((far - 1.0, 1.0), (far - 1.0 + ulp, 0.0)),
+        ...           Arc((far, 0.0), 1.0, math.pi, math.pi), Segment((far + 1.0, 0.0), (far + 1.0, 1.0))],
+        ...          atol=1e-3)
+        >>> L.is_g1(1e-7), L.is_g1(1e-7, rounding=L.rounding())
+        (False, True)
+        """
+        angles = self.corner_angles()
+        if rounding <= 0.0:
+            return bool((angles <= atol).all())
+        return bool((angles <= self._join_bounds(atol, rounding)).all())
+
+    def _join_bounds(self, atol: float, rounding: float) -> np.ndarray:
+        """Per join (piece i to piece i + 1): ``atol`` plus ``rounding / L`` for each segment of length L
+        beside it (an arc's tangents come from its angles, not from rounded points)."""
+        d = self._data
+        length = np.hypot(d[:, 2] - d[:, 0], d[:, 3] - d[:, 1])
+        with np.errstate(divide="ignore"):
+            slack = np.where(self._arc, 0.0, rounding / length)
+        return atol + slack + np.roll(slack, -1)
+
+    def rounding(self) -> float:
+        """The length below which this loop's own numbers are rounding (`tolerances.rounding_length` of its
+        size and its largest coordinate)."""
+        x0, y0, x1, y1 = self.bounds
+        return rounding_length(max(x1 - x0, y1 - y0), max(abs(x0), abs(y0), abs(x1), abs(y1)))
 
     @property
     def min_radius_of_curvature(self) -> float:
-        """Exact minimum radius of curvature: the smallest arc radius, 0 if a join has a corner, else inf."""
-        if not self.is_g1(1e-7):
+        """Exact minimum radius of curvature: the smallest arc radius, 0 if a join has a corner, else inf.
+
+        A join is a corner if its tangents differ by more than `tolerances.CORNER_ANGLE` beyond what the
+        rounding of the loop's coordinates explains (`is_g1` with ``rounding``).
+        """
+        if not self.is_g1(CORNER_ANGLE, self.rounding()):
             return 0.0
         radii = self.radii
         return float(radii.min()) if len(radii) else math.inf

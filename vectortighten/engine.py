@@ -45,8 +45,8 @@ from .centers import ArcCenters, _search_window, boundary_edges, exact_centers, 
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
-from .tolerances import CENTRE_ROUNDING_R, DOMAIN_CHORD_R, EXACT_CHORD_R, GUIDE_MISSING_R, OBSTACLE_SAG_R, THICKEN_R, TOUCH_SCALE, VERIFY_DEPTH_R, \
-    ZERO_SCALE
+from .tolerances import CENTRE_ROUNDING_R, CORNER_ANGLE, DOMAIN_CHORD_R, EXACT_CHORD_R, GUIDE_MISSING_R, \
+    OBSTACLE_SAG_R, THICKEN_R, TOUCH_SCALE, VERIFY_DEPTH_R, ZERO_SCALE, rounding_length
 
 __all__ = ["Init", "Tightening", "tighten"]
 
@@ -1115,6 +1115,10 @@ class Tightening:
         problems: list[str] = []
         r, tol = self.r, self.tolerance
         T = self.geometry
+        # Far from the origin the coordinates themselves are rounded (an ulp of 1e12 is 1.2e-4): every
+        # length tolerance below includes that rounding, every tangent that of its end points.
+        x0, y0, x1, y1 = self.shape.bounds
+        rounding = rounding_length(max(x1 - x0, y1 - y0), max(abs(x0), abs(y0), abs(x1), abs(y1)))
         info = self._exact_context()
         if info is not None:
             # Reference core and fillet built on the exact centres (the shrink's convex vertices and the
@@ -1128,13 +1132,12 @@ class Tightening:
                 if not ctx.E.is_empty else Polygon()
             F = _m._nudge(_m._polygonal(shapely.union(_m._shrink_raw(ctx.G, ctx.r, q), ctx.S)), ctx.S, False)
             T_loc = frame.to_local(T) if not T.is_empty else T
-            slack = (1.25 * tol) / frame.scale + ctx.pen
+            slack = (1.25 * tol + 4.0 * rounding) / frame.scale + ctx.pen
             tiny = 1e-9
         else:
             R = _m.core(self.shape, r, tolerance=tol / 4)
             F = _m.fillet(self.shape, r, tolerance=tol / 4)
-            T_loc, slack = T, 2 * tol
-            x0, y0, x1, y1 = self.shape.bounds
+            T_loc, slack = T, 2 * tol + 4.0 * rounding
             tiny = 1e-9 * max(x1 - x0, y1 - y0) ** 2
         out_r = R.difference(T_loc.buffer(slack)).area if not R.is_empty else 0.0
         if out_r > tiny:
@@ -1149,7 +1152,7 @@ class Tightening:
                 if abs(a.radius - r) > 1e-9 * r:
                     problems.append(f"(c) loop {i} has an arc of radius {a.radius!r}, not r = {r!r}")
                     break
-            if not loop.is_g1(1e-7):
+            if not loop.is_g1(CORNER_ANGLE, rounding):
                 problems.append(f"(c) loop {i} has a corner (max {loop.corner_angles().max():.3g} rad)")
             if loop.min_radius_of_curvature < r * (1 - 1e-9):
                 problems.append(f"(d) loop {i} has radius of curvature {loop.min_radius_of_curvature:.6g} < r")
@@ -1386,6 +1389,10 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
         loops = [L.to_loop(frame) for L in disk_loops]
         geometry, valid = _assemble_valid(loops, tol)
         if not (valid or geometry.is_valid) or geometry.is_empty:
+            fast = None
+        elif len(disk_loops) > 1 and _contacts(_Radius(r_l), disk_loops):
+            # Parts of S that touch (a repaired self-intersection leaves two parts sharing a vertex): their
+            # loops touch too, and only the general engine's surgery separates or joins them.
             fast = None
     if fast is None:
         ctx = _Context(S_local, r_l, tol_l)

@@ -21,7 +21,7 @@ from shapely.geometry import MultiPolygon, Polygon, box
 from shapely.geometry.base import BaseGeometry
 
 from ._validation import check_radius, check_shape, check_tolerance, quad_segs_for
-from .tolerances import GUIDE_MISSING_R
+from .tolerances import GUIDE_MISSING_R, ZERO_SCALE
 
 __all__ = [
     "anticore",
@@ -286,34 +286,36 @@ def _nudge(geom: Polygonal, S: Polygonal, into: bool) -> Polygonal:
     return geom
 
 
-def _core(S: Polygonal, r: float, q: int) -> Polygonal:
+def _core(S: Polygonal, r: float, q: int, centres: bool = True) -> Polygonal:
     """The core from GEOS's shrink, snapped onto the exact corners and given back the exact pieces GEOS
-    loses (parts exactly 2r wide, whose closed shrink is a centre line: `centers.missing_lines`)."""
+    loses (parts exactly 2r wide, whose closed shrink is a centre line: `centers.missing_lines`). With
+    ``centres=False``, GEOS's shrink as it is (Mason's second opening, where its vertices are kept)."""
     from .centers import missing_lines
 
-    X = _exact(S, r, 1)
-    E = _shrink(S, r, q)
+    E = _shrink(S, r, q) if centres else _shrink_raw(S, r, q)
     R = _grow_raw(E, r, q) if not E.is_empty else Polygon()
-    extra = missing_lines(X, E, r, GUIDE_MISSING_R, np.pi / (2 * q))
-    if extra is not None:
-        R = shapely.union(R, extra.buffer(r, quad_segs=q))
+    if centres:
+        extra = missing_lines(_exact(S, r, 1), E, r, GUIDE_MISSING_R, np.pi / (2 * q))
+        if extra is not None:
+            R = shapely.union(R, extra.buffer(r, quad_segs=q))
     if R.is_empty:
         return Polygon()
     R = _polygonal(shapely.intersection(R, S))
     return _orient(_nudge(R, S, into=True))
 
 
-def _fillet(S: Polygonal, r: float, q: int) -> Polygonal:
+def _fillet(S: Polygonal, r: float, q: int, centres: bool = True) -> Polygonal:
     """The fillet from GEOS's grow, snapped onto the exact corners, with the gaps GEOS closes that an
-    r-disk passes (exactly 2r wide or wider by any margin: `centers.missing_lines`) opened again."""
+    r-disk passes (exactly 2r wide or wider by any margin: `centers.missing_lines`) opened again. With
+    ``centres=False``, GEOS's grow as it is."""
     from .centers import missing_lines
 
-    X = _exact(S, r, -1)
-    G = _grow(S, r, q)
+    G = _grow(S, r, q) if centres else _grow_raw(S, r, q)
     F = shapely.union(_shrink_raw(G, r, q), S)
-    extra = missing_lines(X, G, r, GUIDE_MISSING_R, np.pi / (2 * q))
-    if extra is not None:
-        F = shapely.difference(F, shapely.difference(extra.buffer(r, quad_segs=q), S))
+    if centres:
+        extra = missing_lines(_exact(S, r, -1), G, r, GUIDE_MISSING_R, np.pi / (2 * q))
+        if extra is not None:
+            F = shapely.difference(F, shapely.difference(extra.buffer(r, quad_segs=q), S))
     return _orient(_nudge(_polygonal(F), S, into=False))
 
 
@@ -609,12 +611,13 @@ def mason(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     M = _polygonal(shapely.difference(F, R))
     if M.is_empty:
         return R
-    RF = _core(F, r, q)
-    FR = _fillet(R, r, q) if not R.is_empty else R
+    # The second opening and closing work on chords of arcs of radius r: the exact centres that `_core`
+    # and `_fillet` refine from S's own features would be refined from those chords here (a third of
+    # Mason's time on many holes, and no more exact), so their vertices stay GEOS's.
+    RF = _core(F, r, q, centres=False)
+    FR = _fillet(R, r, q, centres=False) if not R.is_empty else R
     parts = _pockets(M, 2.0 * check_tolerance(tolerance, r))
-    in_s = shapely.intersection(parts, S)
-    in_rf = shapely.intersection(parts, RF)
-    in_fr = shapely.intersection(parts, FR)
+    in_s, in_rf, in_fr = (_per_part(parts, X) for X in (S, RF, FR))
     d_rf = shapely.area(shapely.symmetric_difference(in_rf, in_s))
     d_fr = shapely.area(shapely.symmetric_difference(in_fr, in_s))
     chosen = [rf if a <= b else fr for rf, fr, a, b in zip(in_rf, in_fr, d_rf, d_fr)]
@@ -624,12 +627,153 @@ def mason(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     out = _polygonal(shapely.intersection(_polygonal(out), F))
     out = _polygonal(shapely.union(out, R))
     out = _nudge(out, R, into=False)
-    if not F.covers(out):
-        # Where the mortar has zero width the result's boundary runs along both R's and F's; a vertex of F
-        # a rounding error inside one of its edges then pokes into it. Snapping the result to F's vertices
-        # (within 1e-12 of the shape's size) puts that vertex on the edge.
-        x0, y0, x1, y1 = S.bounds
-        snapped = _polygonal(shapely.snap(out, F, 1e-12 * max(x1 - x0, y1 - y0)))
-        if snapped.is_valid and F.covers(snapped) and snapped.covers(R):
-            out = snapped
-    return _orient(out)
+    return _orient(_between(out, R, F))
+
+
+def _per_part(parts: list[Polygon], X: Polygonal) -> np.ndarray:
+    """``P ∩ X`` for every pocket P, each overlay given only X clipped to (a hair around) P's box.
+
+    An overlay of a small pocket with the whole of X costs the size of X every time (hundreds of pockets
+    on a shape with many holes); ``clip_by_rect`` is a linear scan without noding, and leaves the overlay
+    the few edges that matter. The clip is exact inside the box, which holds P.
+    """
+    if not parts or X.is_empty:
+        return shapely.intersection(np.asarray(parts, dtype=object), X)
+    x0, y0, x1, y1 = X.bounds
+    pad = 1e-6 * max(x1 - x0, y1 - y0)
+    local = [shapely.clip_by_rect(X, p0 - pad, q0 - pad, p1 + pad, q1 + pad)
+             for p0, q0, p1, q1 in shapely.bounds(parts).tolist()]
+    return shapely.intersection(np.asarray(parts, dtype=object), np.asarray(local, dtype=object))
+
+
+def _between(geom: Polygonal, R: Polygonal, F: Polygonal) -> Polygonal:
+    """``geom`` moved by rounding errors so that ``R ⊆ geom ⊆ F`` holds exactly, if that is enough.
+
+    Where the mortar thins out (a pocket's tip, where ∂R meets ∂F tangentially, or along zero-width parts)
+    an overlay's computed vertex lands an ulp outside F, or an edge of ``geom`` cuts an ulp across a
+    vertex of F or of R. The vertices of F strictly inside ``geom`` and those of R strictly outside it are
+    inserted into its nearest edge; every other vertex strictly outside F, or strictly inside R, is moved
+    onto the nearest edge of F (of R) and then by the fewest ulps along its normal that put it in
+    ``closure(F) − interior(R)``. Each step is a spatial-index query per vertex (O(n log n)). ``geom`` is
+    returned unchanged if the result is not valid or the inclusions still fail.
+    """
+    if geom.is_empty or R.is_empty:
+        return geom
+    shapely.prepare(F)
+    shapely.prepare(R)
+
+    def holds(g) -> bool:
+        shapely.prepare(g)
+        return F.covers(g) and g.covers(R)
+
+    if holds(geom):
+        return geom
+    x0, y0, x1, y1 = F.bounds
+    # How far rounding can put a vertex: the old snap's reach, or a few hundred ulps of the coordinates.
+    reach = max(ZERO_SCALE * max(x1 - x0, y1 - y0), 256.0 * float(np.spacing(max(map(abs, F.bounds)))))
+    parts = [_orient(p) for p in shapely.get_parts(geom)]
+    rings = [shapely.get_coordinates(ring) for p in parts for ring in shapely.get_rings(p)]
+    cf, cr = shapely.get_coordinates(F), shapely.get_coordinates(R)
+    extra = np.concatenate([cf[shapely.contains_xy(geom, cf[:, 0], cf[:, 1])],
+                            cr[~shapely.intersects_xy(geom, cr[:, 0], cr[:, 1])]])
+    if len(extra):
+        rings = _insert_into_edges(rings, extra, reach)
+        if rings is None:
+            return geom                               # a vertex far inside (outside): a real violation
+    coords = np.concatenate(rings)
+    fixed = _keys_in(coords, np.concatenate([cf, cr]))
+    for target, inside in ((F, True), (R, False)):
+        x, y = coords[:, 0], coords[:, 1]
+        bad = ~fixed & (~shapely.intersects_xy(target, x, y) if inside else shapely.contains_xy(target, x, y))
+        if bad.any():
+            moved = _onto(coords[bad], target, F, R, reach)
+            if moved is None:
+                return geom
+            coords[bad] = moved
+    x, y = coords[:, 0], coords[:, 1]
+    drop = ~fixed & (~shapely.intersects_xy(F, x, y) | shapely.contains_xy(R, x, y))
+    out, k = [], 0
+    sizes = np.cumsum([0] + [len(c) for c in rings])
+    for p in parts:
+        n = 1 + len(p.interiors)
+        rr = []
+        for i in range(n):
+            c, gone = coords[sizes[k + i]:sizes[k + i + 1]], drop[sizes[k + i]:sizes[k + i + 1]]
+            if gone.any():
+                # No representable point lies in closure(F) − interior(R) there (∂R and ∂F less than an
+                # ulp apart): the vertex is left out, its neighbours joined.
+                keep = ~gone[:-1]
+                c = c[:-1][keep]
+                c = np.concatenate([c, c[:1]]) if len(c) >= 3 else c
+            rr.append(c)
+        if any(len(c) < 4 for c in rr):
+            return geom
+        out.append(Polygon(rr[0], rr[1:]))
+        k += n
+    result = out[0] if len(out) == 1 else MultiPolygon(out)
+    if result.is_valid and holds(result):
+        return result
+    return geom
+
+
+def _keys_in(coords: np.ndarray, pool: np.ndarray) -> np.ndarray:
+    """Whether each point of ``coords`` is (bit for bit) one of the points of ``pool``."""
+    keys = np.sort(pool[:, 0] + 1j * pool[:, 1])
+    k = coords[:, 0] + 1j * coords[:, 1]
+    return keys[np.clip(np.searchsorted(keys, k), 0, len(keys) - 1)] == k
+
+
+def _insert_into_edges(rings: list[np.ndarray], points: np.ndarray, reach: float) -> list[np.ndarray] | None:
+    """Closed rings with each point inserted into the edge nearest to it, in order along the edge; None if
+    a point is farther than ``reach`` from every edge."""
+    a = np.concatenate([c[:-1] for c in rings])
+    b = np.concatenate([c[1:] for c in rings])
+    tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
+    edge, dist = tree.query_nearest(shapely.points(points), all_matches=False, return_distance=True)
+    edge = edge[1]
+    if (dist > reach).any():
+        return None
+    d = b[edge] - a[edge]
+    t = np.einsum("ij,ij->i", points - a[edge], d) / np.einsum("ij,ij->i", d, d)
+    order = np.lexsort((t, edge))
+    edge, points = edge[order], points[order]
+    out, start = [], 0
+    for c in rings:
+        m = len(c) - 1
+        lo, hi = np.searchsorted(edge, [start, start + m])
+        if lo == hi:
+            out.append(c)
+        else:
+            # Each inserted point goes after the start of its edge; np.insert keeps their order.
+            out.append(np.insert(c, edge[lo:hi] - start + 1, points[lo:hi], axis=0))
+        start += m
+    return out
+
+
+def _onto(points: np.ndarray, target: Polygonal, F: Polygonal, R: Polygonal, reach: float) -> np.ndarray | None:
+    """Each point projected onto the nearest edge of ``target``, then moved along that edge's normal by
+    the fewest ulps (0, 1, 2, 4, … either way) that put it in ``closure(F) − interior(R)``; a point for
+    which 64 steps are not enough is left where it was. None if a point is farther than ``reach`` from
+    ``target``'s boundary (not a rounding error)."""
+    a, b = _edges(_orient(target))
+    tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
+    edge = tree.query_nearest(shapely.points(points), all_matches=False)[1]
+    d = b[edge] - a[edge]
+    t = np.clip(np.einsum("ij,ij->i", points - a[edge], d) / np.einsum("ij,ij->i", d, d), 0.0, 1.0)
+    foot = a[edge] + t[:, None] * d
+    if (np.hypot(*(foot - points).T) > reach).any():
+        return None
+    normal = np.column_stack([-d[:, 1], d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
+    ulp = np.spacing(np.abs(foot).max(axis=1))[:, None]
+    out = points.copy()
+    todo = np.ones(len(points), dtype=bool)
+    for step in [0.0] + [s * 2.0 ** k for k in range(32) for s in (1.0, -1.0)]:
+        trial = foot[todo] + step * ulp[todo] * normal[todo]
+        ok = (shapely.intersects_xy(F, trial[:, 0], trial[:, 1])
+              & ~shapely.contains_xy(R, trial[:, 0], trial[:, 1]))
+        idx = np.flatnonzero(todo)[ok]
+        out[idx] = trial[ok]
+        todo[idx] = False
+        if not todo.any():
+            break
+    return out

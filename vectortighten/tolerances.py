@@ -2,12 +2,19 @@
 
 Lengths are given either relative to the radius ``r`` (``*_R``) or relative to the size of the shape
 (``*_SCALE``: the largest side of its bounding box). Nothing else in the package writes a bare epsilon.
+
+Far from the origin the size alone is not enough: a shape of size 10 at 1e12 has coordinates that are
+multiples of 1.2e-4, and every length measured on it carries that rounding. `resolution_scale` is the
+scale that the checks of a result (`Tightening.verify`, the final check of `tighten`) are relative to.
 """
+
+import math
 
 __all__ = [
     "ANGLE_ZERO",
     "CENTER_SEARCH_R",
     "CENTRE_ROUNDING_R",
+    "CORNER_ANGLE",
     "DEFAULT_TOLERANCE_R",
     "DOMAIN_CHORD_R",
     "EXACT_CHORD_R",
@@ -15,10 +22,14 @@ __all__ = [
     "MAX_QUAD_SEGS",
     "OBSTACLE_SAG_R",
     "PENETRATION_R",
+    "ROUNDING_ULPS",
+    "SPECK_SCALE",
     "THICKEN_R",
     "TOUCH_SCALE",
     "VERIFY_DEPTH_R",
     "ZERO_SCALE",
+    "resolution_scale",
+    "rounding_length",
 ]
 
 #: Default ``tolerance`` of every function that samples circular arcs: the largest distance between an arc
@@ -83,3 +94,62 @@ CENTRE_ROUNDING_R = 1e-6
 # `verify()` reports a loop that comes nearer than r to the exact shrink of S or of its complement by more
 # than this (relative to r; at least a few units in the last place of the coordinates).
 VERIFY_DEPTH_R = 1e-9
+#: A join of a loop whose tangents differ by more than this (radians), beyond what the rounding of the
+#: segments' end points explains (see `rounding_length`), is a corner.
+CORNER_ANGLE = 1e-7
+
+#: Units in the last place of the largest coordinate by which a point computed from the coordinates (a
+#: tangent point, a transformed vertex: a few operations each within half an ulp) may be off.
+ROUNDING_ULPS = 16.0
+
+
+def resolution_scale(size: float, largest: float) -> float:
+    """The scale a result is judged at: ``max(size, ROUNDING_ULPS·ulp(largest) / ZERO_SCALE)``.
+
+    A length below ``ZERO_SCALE`` of it is rounding. Near the origin this is the size of the shape; far
+    from it (``largest`` is the largest absolute coordinate), the scale at which `ZERO_SCALE` of it is
+    `ROUNDING_ULPS` units in the last place of the coordinates.
+
+    Parameters
+    ----------
+    size : float
+        The largest side of the shape's bounding box, in the shape's units.
+    largest : float
+        The largest absolute coordinate, in the shape's units.
+
+    Returns
+    -------
+    float
+        A length in the shape's units, ``>= size``.
+
+    Examples
+    --------
+    >>> resolution_scale(10.0, 5.0)                  # near the origin: the size
+    10.0
+    >>> resolution_scale(10.0, 1e12) > 1e9           # at 1e12 an ulp is 1.2e-4
+    True
+    """
+    ulp = math.ulp(abs(float(largest))) if math.isfinite(largest) else math.inf
+    return max(float(size), ROUNDING_ULPS * ulp / ZERO_SCALE)
+
+
+def rounding_length(size: float, largest: float) -> float:
+    """Lengths measured on a result below this are rounding: ``ZERO_SCALE·resolution_scale(size, largest)``.
+
+    A segment of length L has a direction known to about ``rounding_length / L`` radians, so that is what
+    a join between it and its neighbour may miss tangency by (`Loop.is_g1` with ``rounding``).
+
+    Examples
+    --------
+    >>> rounding_length(10.0, 5.0)
+    1e-11
+    >>> round(rounding_length(10.0, 1e12) / math.ulp(1e12))   # ROUNDING_ULPS ulps of the coordinates
+    16
+    """
+    return ZERO_SCALE * resolution_scale(size, largest)
+
+#: A tangent of a tight loop shorter than this fraction of the loop's extent is a speck of rounding (the
+#: tangents between nearly coincident disks, 1e-16–1e-10 long: their directions are noise). Between two
+#: disks of one side the disks are merged into one arc; between opposite sides the tangent is dropped.
+#: Either way the loop stays G1 and moves by less than the speck (the loop's closing tolerance is 1e-9).
+SPECK_SCALE = 1e-10

@@ -92,7 +92,11 @@ def fill_rings(rings, rule: str = "nonzero") -> Polygon | MultiPolygon:
     if not filled:
         return Polygon()
     # The faces of a polygonization meet only along shared edges: a coverage, united without overlays.
-    out = shapely.coverage_union_all(filled) if len(filled) > 1 else filled[0]
+    try:
+        out = shapely.coverage_union_all(filled) if len(filled) > 1 else filled[0]
+    except shapely.errors.GEOSException:
+        # Faces of coordinates so large (1e50) that rounding makes them overlap: a plain union.
+        out = shapely.union_all(filled)
     if not out.is_valid:
         out = shapely.make_valid(out)
     polys = [g for g in shapely.get_parts(out) if isinstance(g, Polygon) and not g.is_empty]

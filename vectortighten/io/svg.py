@@ -249,16 +249,23 @@ def _matrix(m) -> np.ndarray:
 
 def _curve_chords(seg, se, tol: float) -> np.ndarray:
     """Points after ``seg.start`` up to ``seg.end`` on a curve, chords within ``tol`` (local units)."""
-    if isinstance(seg, se.CubicBezier):
-        p = np.array([[seg.start.x, seg.start.y], [seg.control1.x, seg.control1.y],
-                      [seg.control2.x, seg.control2.y], [seg.end.x, seg.end.y]])
-        bend = max(np.hypot(*(p[0] - 2 * p[1] + p[2])), np.hypot(*(p[1] - 2 * p[2] + p[3])))
-        # |B''| ≤ 6·bend, and a chord of a parameter step h is within |B''|·h²/8 of the curve.
-        n = math.ceil(math.sqrt(6.0 * bend / (8.0 * tol)))
-    elif isinstance(seg, se.QuadraticBezier):
-        p = np.array([[seg.start.x, seg.start.y], [seg.control.x, seg.control.y], [seg.end.x, seg.end.y]])
-        bend = np.hypot(*(p[0] - 2 * p[1] + p[2]))
-        n = math.ceil(math.sqrt(2.0 * bend / (8.0 * tol)))
+    if isinstance(seg, (se.CubicBezier, se.QuadraticBezier)):
+        if isinstance(seg, se.CubicBezier):
+            p = np.array([[seg.start.x, seg.start.y], [seg.control1.x, seg.control1.y],
+                          [seg.control2.x, seg.control2.y], [seg.end.x, seg.end.y]])
+        else:
+            p = np.array([[seg.start.x, seg.start.y], [seg.control.x, seg.control.y], [seg.end.x, seg.end.y]])
+        if not np.isfinite(p).all():
+            raise InvalidGeometryError("NaN or infinite control point of a Bézier curve")
+        with np.errstate(over="ignore", invalid="ignore"):
+            d2 = p[:-2] - 2 * p[1:-1] + p[2:]
+            bend = float(np.hypot(d2[:, 0], d2[:, 1]).max())
+            # |B''| ≤ 2·bend (quadratic) or 6·bend (cubic), and a chord of a parameter step h is within
+            # |B''|·h²/8 of the curve.
+            n = math.sqrt((6.0 if len(p) == 4 else 2.0) * bend / (8.0 * tol))
+        # A bend that overflows (control points near 1e308) takes the most chords; the coordinates'
+        # own limit refuses such a shape later by name.
+        n = math.ceil(n) if math.isfinite(n) else _MAX_CHORDS
     elif isinstance(seg, se.Arc):
         big = max(abs(seg.rx), abs(seg.ry))                     # |point''| ≤ max radius per radian²
         # An arc whose radius or sweep overflows (radii of 1e308 between nearby points) is a straight
