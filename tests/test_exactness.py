@@ -23,166 +23,81 @@ CASES = ec.cases("ci")
 INITS = ("core", "input")
 
 # Measured on this branch (see the module docstring); keys are "case id|init".
-KNOWN = {
-    'bar 2r(1+0) a30@1234.5,-678.25|core': {   'verify': 'verify() reports a problem (corner/other) '
-                                                         'though the oracle finds it exact (core '
-                                                         '4.2e-12·r, anticore 0·r)'},
-    'bar 2r(1+0) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem (corner/other) '
-                                                          'though the oracle finds it exact (core '
-                                                          '4.2e-12·r, anticore 0·r)'},
-    'bar 2r(1+0) a61@-30000,20000|core': {   'verify': 'verify() reports a problem (corner/other) '
-                                                       'though the oracle finds it exact (core 1e-10·r, '
-                                                       'anticore 3.1e-13·r)'},
-    'bar 2r(1+0) a61@-30000,20000|input': {   'verify': 'verify() reports a problem (corner/other) '
-                                                        'though the oracle finds it exact (core '
-                                                        '1e-10·r, anticore 3.1e-13·r)'},
-    'bar 2r(1+1e-09) a30@1234.5,-678.25|core': {   'verify': 'verify() reports a problem (corner/other) '
-                                                             'though the oracle finds it exact (core '
-                                                             '4.2e-12·r, anticore 1.6e-14·r)'},
-    'bar 2r(1+1e-09) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem '
-                                                              '(corner/other) though the oracle finds '
-                                                              'it exact (core 4.2e-12·r, anticore '
-                                                              '1.6e-14·r)'},
-    'bar 2r(1+1e-09) a61@-30000,20000|core': {   'verify': 'verify() reports a problem (corner/other) '
-                                                           'though the oracle finds it exact (core '
-                                                           '1e-10·r, anticore 1.2e-12·r)'},
-    'bar 2r(1+1e-09) a61@-30000,20000|input': {   'verify': 'verify() reports a problem (corner/other) '
-                                                            'though the oracle finds it exact (core '
-                                                            '1e-10·r, anticore 1.2e-12·r)'},
-    'embedded neck 2r(1+1e-08)|core': {   'verify': 'verify() reports a problem (corner/other) though '
-                                                    'the oracle finds it exact (core 6.9e-10·r, '
-                                                    'anticore 1.1e-10·r)'},
-    'embedded neck 2r(1+1e-08)|input': {   'verify': 'verify() reports a problem (corner/other) though '
-                                                     'the oracle finds it exact (core 6.9e-10·r, '
-                                                     'anticore 1.1e-10·r)'},
-    'embedded neck 2r(1-0.0001)|core': {   'exact': 'issue 25: enters by core 3.7e-09·r, anticore '
-                                                    '1.1e-10·r',
-                                           'verify': 'issue 25: verify() silent while the oracle '
-                                                     'measures core 3.7e-09·r, anticore 1.1e-10·r'},
-    'embedded neck 2r(1-1e-08)|core': {   'exact': 'issue 25: enters by core 3.7e-07·r, anticore '
-                                                   '1.1e-10·r',
-                                          'verify': 'issue 25: verify() silent while the oracle '
-                                                    'measures core 3.7e-07·r, anticore 1.1e-10·r'},
-    'embedded neck 2r(1-1e-08)|input': {   'verify': 'verify() reports a problem (corner/other) though '
-                                                     'the oracle finds it exact (core 1.1e-10·r, '
-                                                     'anticore 1.1e-10·r)'},
-    'neck 2r(1+0) a0@0,0|core': {   'verify': 'verify() reports a problem (corner/other) though the '
-                                              'oracle finds it exact (core 8.6e-14·r, anticore '
-                                              '8.5e-14·r)'},
-    'neck 2r(1+0) a0@0,0|input': {   'verify': 'verify() reports a problem (corner/other) though the '
-                                               'oracle finds it exact (core 8.6e-14·r, anticore '
-                                               '8.5e-14·r)'},
-    'neck 2r(1+0) a30@1234.5,-678.25|core': {   'verify': 'verify() reports a problem (corner/other) '
-                                                          'though the oracle finds it exact (core '
-                                                          '1.3e-11·r, anticore 1.3e-11·r)'},
-    'neck 2r(1+0) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem (corner/other) '
-                                                           'though the oracle finds it exact (core '
-                                                           '1.3e-11·r, anticore 1.3e-11·r)'},
-    'neck 2r(1+0) a61@-30000,20000|core': {   'verify': 'verify() reports a problem (corner/other) '
-                                                        'though the oracle finds it exact (core '
-                                                        '3e-10·r, anticore 3e-10·r)'},
-    'neck 2r(1+0) a61@-30000,20000|input': {   'verify': 'verify() reports a problem (corner/other) '
-                                                         'though the oracle finds it exact (core '
-                                                         '3e-10·r, anticore 3e-10·r)'},
-    'neck 2r(1+1e-06) a30@1234.5,-678.25|core': {   'verify': 'verify() reports a problem '
-                                                              '(corner/other) though the oracle finds '
-                                                              'it exact (core 1.3e-11·r, anticore '
-                                                              '1.3e-11·r)'},
-    'neck 2r(1+1e-06) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem '
-                                                               '(corner/other) though the oracle finds '
-                                                               'it exact (core 1.3e-11·r, anticore '
-                                                               '1.3e-11·r)'},
-    'neck 2r(1+1e-06) a61@-30000,20000|core': {   'verify': 'verify() reports a problem (corner/other) '
-                                                            'though the oracle finds it exact (core '
-                                                            '3e-10·r, anticore 3e-10·r)'},
-    'neck 2r(1+1e-06) a61@-30000,20000|input': {   'verify': 'verify() reports a problem (corner/other) '
-                                                             'though the oracle finds it exact (core '
-                                                             '3e-10·r, anticore 3e-10·r)'},
-    'neck 2r(1+1e-10) a30@1234.5,-678.25|core': {   'verify': 'verify() reports a problem '
-                                                              '(corner/other) though the oracle finds '
-                                                              'it exact (core 1.3e-11·r, anticore '
-                                                              '1.3e-11·r)'},
-    'neck 2r(1+1e-10) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem '
-                                                               '(corner/other) though the oracle finds '
-                                                               'it exact (core 1.3e-11·r, anticore '
-                                                               '1.3e-11·r)'},
+KNOWN = {   'embedded neck 2r(1-0.0001)|core': {   'exact': 'issue 25: enters by core 3.7e-09·r, anticore 1.1e-10·r',
+                                           'verify': 'issue 25: verify() silent while the oracle measures '
+                                                     'core 3.7e-09·r, anticore 1.1e-10·r'},
+    'embedded neck 2r(1-1e-08)|core': {   'exact': 'issue 25: enters by core 3.7e-07·r, anticore 1.1e-10·r',
+                                          'verify': 'issue 25: verify() silent while the oracle measures '
+                                                    'core 3.7e-07·r, anticore 1.1e-10·r'},
     'neck 2r(1-0.01) a61@-30000,20000|core': {   'exact': 'issue 25: enters by core 1.1e-09·r, anticore '
                                                           '3e-10·r',
                                                  'verify': 'issue 25: verify() silent while the oracle '
                                                            'measures core 1.1e-09·r, anticore 3e-10·r'},
-    'neck 2r(1-1e-06) a30@1234.5,-678.25|core': {   'exact': 'issue 25: enters by core 4.4e-09·r, '
-                                                             'anticore 1.3e-11·r',
+    'neck 2r(1-1e-06) a30@1234.5,-678.25|core': {   'exact': 'issue 25: enters by core 4.4e-09·r, anticore '
+                                                             '1.3e-11·r',
                                                     'verify': 'issue 25: verify() silent while the oracle '
                                                               'measures core 4.4e-09·r (its corner report '
                                                               'was rounding: a 1e-6 tangent at 1234)'},
-    'neck 2r(1-1e-06) a61@-30000,20000|core': {   'exact': 'issue 25: enters by core 1.1e-07·r, '
-                                                           'anticore 3e-10·r',
+    'neck 2r(1-1e-06) a61@-30000,20000|core': {   'exact': 'issue 25: enters by core 1.1e-07·r, anticore '
+                                                           '3e-10·r',
                                                   'verify': 'issue 25: verify() silent while the oracle '
-                                                            'measures core 1.1e-07·r (its corner report '
-                                                            'was rounding: a 1e-6 tangent at 3e4)'},
-    'neck 2r(1-1e-06) a61@-30000,20000|input': {   'verify': 'verify() reports a problem (corner/other) '
-                                                             'though the oracle finds it exact (core '
-                                                             '3e-10·r, anticore 3e-10·r)'},
-    'neck 2r(1-1e-10) a0@0,0|core': {   'decision': 'issue 25: T should not contain (0.0, 0.0)',
-                                        'verify': 'verify() reports a problem (corner/other) though the '
-                                                  'oracle finds it exact (core 8.6e-14·r, anticore '
-                                                  '8.5e-14·r)'},
-    'neck 2r(1-1e-10) a0@0,0|input': {   'verify': 'verify() reports a problem (corner/other) though '
-                                                   'the oracle finds it exact (core 8.6e-14·r, anticore '
-                                                   '8.5e-14·r)'},
-    'neck 2r(1-1e-10) a30@1234.5,-678.25|core': {   'decision': 'issue 25: T should not contain '
-                                                                '(1234.5, -678.25)',
-                                                    'verify': 'verify() reports a problem '
-                                                              '(corner/other) though the oracle finds '
-                                                              'it exact (core 1.3e-11·r, anticore '
-                                                              '1.3e-11·r)'},
-    'neck 2r(1-1e-10) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem '
-                                                               '(corner/other) though the oracle finds '
-                                                               'it exact (core 1.3e-11·r, anticore '
-                                                               '1.3e-11·r)'},
-    'pixel blob 60px seed 0 r=3|core': {   'exact': 'issue 24: enters by core 0.26·r, anticore '
-                                                    '2.3e-13·r',
-                                           'verify': 'issue 24: verify() silent while the oracle '
-                                                     'measures core 0.26·r, anticore 2.3e-13·r'},
-    'pixel blob 60px seed 0 r=3|input': {   'exact': 'issue 24: enters by core 0.26·r, anticore '
-                                                     '2.3e-13·r',
-                                            'verify': 'issue 24: verify() silent while the oracle '
-                                                      'measures core 0.26·r, anticore 2.3e-13·r'},
-    'pixel blob 60px seed 0 r=8|core': {   'exact': 'issue 24: enters by core 0.016·r, anticore 0·r',
-                                           'verify': 'issue 24: verify() silent while the oracle '
-                                                     'measures core 0.016·r, anticore 0·r'},
-    'pixel blob 60px seed 0 r=8|input': {   'exact': 'issue 24: enters by core 0.016·r, anticore 0·r',
-                                            'verify': 'issue 24: verify() silent while the oracle '
-                                                      'measures core 0.016·r, anticore 0·r'},
-    'slot 2r(1+1e-10) a30@1234.5,-678.25|core': {   'verify': 'verify() reports a problem '
-                                                              '(corner/other) though the oracle finds '
-                                                              'it exact (core 1.3e-11·r, anticore '
-                                                              '1.3e-11·r)'},
-    'slot 2r(1+1e-10) a30@1234.5,-678.25|input': {   'verify': 'verify() reports a problem '
-                                                               '(corner/other) though the oracle finds '
-                                                               'it exact (core 1.3e-11·r, anticore '
-                                                               '1.3e-11·r)'},
+                                                            'measures core 1.1e-07·r (its corner report was '
+                                                            'rounding: a 1e-6 tangent at 3e4)'},
+    'neck 2r(1-1e-10) a0@0,0|core': {'decision': 'issue 25: T should not contain (0.0, 0.0)'},
+    'neck 2r(1-1e-10) a30@1234.5,-678.25|core': {   'decision': 'issue 25: T should not contain (1234.5, '
+                                                                '-678.25)'},
     'slot 2r(1-0.001) a61@-30000,20000|core': {   'exact': 'issue 25: enters by core 3e-10·r, anticore '
                                                            '3.4e-09·r',
                                                   'verify': 'issue 25: verify() silent while the oracle '
                                                             'measures core 3e-10·r, anticore 3.4e-09·r'},
     'slot 2r(1-0.001) a61@-30000,20000|input': {   'exact': 'issue 25: enters by core 3e-10·r, anticore '
                                                             '3.4e-09·r',
-                                                   'verify': 'issue 25: verify() silent while the '
-                                                             'oracle measures core 3e-10·r, anticore '
-                                                             '3.4e-09·r'},
-    'staircase stroke 2·3px|core': {   'decision': 'issue 24: T should contain (44.0, 35.0)',
-                                       'exact': 'issue 24: enters by core 1·r, anticore 2.6e-13·r, 2 '
-                                                'shrink pieces outside T',
-                                       'verify': 'issue 24: verify() silent while the oracle measures '
-                                                 'core 1·r, anticore 2.6e-13·r, 2 shrink pieces outside '
-                                                 'T'},
-    'staircase stroke 2·8px|core': {   'decision': 'issue 24: T should contain (84.0, 60.0)',
-                                       'exact': 'issue 24: enters by core 1·r, anticore 2e-13·r, 2 '
-                                                'shrink pieces outside T',
-                                       'verify': 'issue 24: verify() silent while the oracle measures '
-                                                 'core 1·r, anticore 2e-13·r, 2 shrink pieces outside '
-                                                 'T'}}
+                                                   'verify': 'issue 25: verify() silent while the oracle '
+                                                             'measures core 3e-10·r, anticore 3.4e-09·r'},
+    'slot 2r(1-1e-10) a0@0,0|core': {   'exact': 'oracle: its tie allowance (TIE_REL·M) moves this '
+                                                 'near-tangent cusp (half-angle α = √(2·1e-10)) by δ/α ≈ '
+                                                 '2e-9 rad past the exact one and reads 1.7e-9·r; the '
+                                                 "engine's cusp is the exact one (α = √(2(1 − x)) to 1e-16; "
+                                                 'closing note of 2026-12-02 evening)',
+                                        'verify': 'oracle: its tie allowance (TIE_REL·M) moves this '
+                                                  'near-tangent cusp (half-angle α = √(2·1e-10)) by δ/α ≈ '
+                                                  '2e-9 rad past the exact one and reads 1.7e-9·r; the '
+                                                  "engine's cusp is the exact one (α = √(2(1 − x)) to 1e-16; "
+                                                  'closing note of 2026-12-02 evening)'},
+    'slot 2r(1-1e-10) a0@0,0|input': {   'exact': 'oracle: its tie allowance (TIE_REL·M) moves this '
+                                                  'near-tangent cusp (half-angle α = √(2·1e-10)) by δ/α ≈ '
+                                                  '2e-9 rad past the exact one and reads 1.7e-9·r; the '
+                                                  "engine's cusp is the exact one (α = √(2(1 − x)) to 1e-16; "
+                                                  'closing note of 2026-12-02 evening)',
+                                         'verify': 'oracle: its tie allowance (TIE_REL·M) moves this '
+                                                   'near-tangent cusp (half-angle α = √(2·1e-10)) by δ/α ≈ '
+                                                   '2e-9 rad past the exact one and reads 1.7e-9·r; the '
+                                                   "engine's cusp is the exact one (α = √(2(1 − x)) to "
+                                                   '1e-16; closing note of 2026-12-02 evening)'},
+    'slot 2r(1-1e-10) a30@1234.5,-678.25|core': {   'exact': 'oracle: its tie allowance (TIE_REL·M) moves '
+                                                             'this near-tangent cusp (half-angle α = '
+                                                             '√(2·1e-10)) by δ/α ≈ 2e-9 rad past the exact '
+                                                             "one and reads 1.7e-9·r; the engine's cusp is "
+                                                             'the exact one (α = √(2(1 − x)) to 1e-16; '
+                                                             'closing note of 2026-12-02 evening)',
+                                                    'verify': 'oracle: its tie allowance (TIE_REL·M) moves '
+                                                              'this near-tangent cusp (half-angle α = '
+                                                              '√(2·1e-10)) by δ/α ≈ 2e-9 rad past the exact '
+                                                              "one and reads 1.7e-9·r; the engine's cusp is "
+                                                              'the exact one (α = √(2(1 − x)) to 1e-16; '
+                                                              'closing note of 2026-12-02 evening)'},
+    'slot 2r(1-1e-10) a30@1234.5,-678.25|input': {   'exact': 'oracle: its tie allowance (TIE_REL·M) moves '
+                                                              'this near-tangent cusp (half-angle α = '
+                                                              '√(2·1e-10)) by δ/α ≈ 2e-9 rad past the exact '
+                                                              "one and reads 1.7e-9·r; the engine's cusp is "
+                                                              'the exact one (α = √(2(1 − x)) to 1e-16; '
+                                                              'closing note of 2026-12-02 evening)',
+                                                     'verify': 'oracle: its tie allowance (TIE_REL·M) moves '
+                                                               'this near-tangent cusp (half-angle α = '
+                                                               '√(2·1e-10)) by δ/α ≈ 2e-9 rad past the exact '
+                                                               "one and reads 1.7e-9·r; the engine's cusp is "
+                                                               'the exact one (α = √(2(1 − x)) to 1e-16; '
+                                                               'closing note of 2026-12-02 evening)'}}
 
 
 @cache
