@@ -9,6 +9,7 @@ from scipy.spatial import cKDTree
 from shapely import affinity
 from shapely.geometry import Point, Polygon, box
 
+import vectortighten as vt
 from vectortighten._validation import check_shape
 from vectortighten.offsets import exact_offsets
 
@@ -123,3 +124,19 @@ def test_many_small_edges_give_the_same_corners_as_the_all_pairs_cut():
             assert len(A.corners) == len(B.corners)
             if len(A.corners):
                 assert cKDTree(B.corners).query(A.corners)[0].max() < 1e-12
+
+
+def test_corner_at_an_element_end_is_found_on_collinear_pixel_edges():
+    # A 60 × 60 square traced as pixel edges (a vertex every unit, collinear): at r = 10 every corner of
+    # the shrink falls exactly on an end of a unit edge's offset, where no cut marks it. Regression: the
+    # four corners (30, 30) … were lost, and the engine returned two disks.
+    t = np.arange(0.0, 60.0)
+    ring = np.concatenate([np.column_stack([t, 0 * t]), np.column_stack([60 + 0 * t, t]),
+                           np.column_stack([60 - t, 60 + 0 * t]), np.column_stack([0 * t, 60 - t])]) + 20.0
+    S = check_shape(Polygon(ring))
+    E = exact_offsets(S, 10.0)
+    assert sorted(map(tuple, E.corners.round(12).tolist())) == [(30.0, 30.0), (30.0, 70.0), (70.0, 30.0),
+                                                                (70.0, 70.0)]
+    T = vt.tighten(S, 10.0)
+    assert T.converged and T.n_components == 1
+    assert T.area == pytest.approx(3600 - (4 - math.pi) * 100, rel=1e-12)

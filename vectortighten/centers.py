@@ -436,12 +436,14 @@ def arc_centers(S, r: float, *, tolerance: float | None = None) -> ArcCenters:
 def exact_centers(S, r: float):
     """The exact arc centres of both sides from S's exact offsets, and those offsets (side +1, side −1).
 
-    S must be valid and oriented. Every centre is a corner of ``S↓r`` or of ``(S^c)↓r``
+    S must be valid (it is oriented here). Every centre is a corner of ``S↓r`` or of ``(S^c)↓r``
     (`vectortighten.offsets`), found from S's edges alone; each is given the two features of S nearest
     to it (at distance r to rounding).
     """
+    from .morphology import _orient
     from .offsets import exact_offsets
 
+    S = _orient(S)
     E = exact_offsets(S, r, 1)
     G = exact_offsets(S, r, -1)
     xy = np.concatenate([E.corners, G.corners])

@@ -559,7 +559,8 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False) -> OffsetPie
 
 
 def _on_pieces(X, el, lo, hi, xy, tol) -> np.ndarray:
-    """Whether each point lies within ``tol`` of one of the kept pieces ``(el, lo, hi)`` (exactly)."""
+    """Whether each point lies within ``tol`` of the inside of one of the kept pieces ``(el, lo, hi)``
+    (farther than ``tol`` from its ends), exactly."""
     if len(xy) == 0 or len(el) == 0:
         return np.zeros(len(xy), dtype=bool)
     g, sag = X.geoms(el, lo, hi)
@@ -583,8 +584,12 @@ def _on_pieces(X, el, lo, hi, xy, tol) -> np.ndarray:
         t = _arc_param(np.arctan2(w[:, 1], w[:, 0]), X.arc_a0[k], X.arc_sw[k])
         t = np.clip(t, a[~s], b[~s])
         d[~s] = np.hypot(*(xy[pi[~s]] - X.points(e[~s], t)).T)
+    # At a piece's end the point may be a corner the cut did not mark (the cut fell on an element's own
+    # end, as on a pixel staircase): only points inside a piece are on it.
+    p0, p1 = X.points(e, a), X.points(e, b)
+    inner = (np.hypot(*(xy[pi] - p0).T) > tol) & (np.hypot(*(xy[pi] - p1).T) > tol)
     out = np.zeros(len(xy), dtype=bool)
-    out[pi[d <= tol]] = True
+    out[pi[(d <= tol) & inner]] = True
     return out
 
 
