@@ -53,51 +53,16 @@ KNOWN = {   'embedded neck 2r(1-0.0001)|core': {   'exact': 'issue 25: enters by
     'slot 2r(1-0.001) a61@-30000,20000|input': {   'exact': 'issue 25: enters by core 3e-10·r, anticore '
                                                             '3.4e-09·r',
                                                    'verify': 'issue 25: verify() silent while the oracle '
-                                                             'measures core 3e-10·r, anticore 3.4e-09·r'},
-    'slot 2r(1-1e-10) a0@0,0|core': {   'exact': 'oracle: its tie allowance (TIE_REL·M) moves this '
-                                                 'near-tangent cusp (half-angle α = √(2·1e-10)) by δ/α ≈ '
-                                                 '2e-9 rad past the exact one and reads 1.7e-9·r; the '
-                                                 "engine's cusp is the exact one (α = √(2(1 − x)) to 1e-16; "
-                                                 'closing note of 2026-12-02 evening)',
-                                        'verify': 'oracle: its tie allowance (TIE_REL·M) moves this '
-                                                  'near-tangent cusp (half-angle α = √(2·1e-10)) by δ/α ≈ '
-                                                  '2e-9 rad past the exact one and reads 1.7e-9·r; the '
-                                                  "engine's cusp is the exact one (α = √(2(1 − x)) to 1e-16; "
-                                                  'closing note of 2026-12-02 evening)'},
-    'slot 2r(1-1e-10) a0@0,0|input': {   'exact': 'oracle: its tie allowance (TIE_REL·M) moves this '
-                                                  'near-tangent cusp (half-angle α = √(2·1e-10)) by δ/α ≈ '
-                                                  '2e-9 rad past the exact one and reads 1.7e-9·r; the '
-                                                  "engine's cusp is the exact one (α = √(2(1 − x)) to 1e-16; "
-                                                  'closing note of 2026-12-02 evening)',
-                                         'verify': 'oracle: its tie allowance (TIE_REL·M) moves this '
-                                                   'near-tangent cusp (half-angle α = √(2·1e-10)) by δ/α ≈ '
-                                                   '2e-9 rad past the exact one and reads 1.7e-9·r; the '
-                                                   "engine's cusp is the exact one (α = √(2(1 − x)) to "
-                                                   '1e-16; closing note of 2026-12-02 evening)'},
-    'slot 2r(1-1e-10) a30@1234.5,-678.25|core': {   'exact': 'oracle: its tie allowance (TIE_REL·M) moves '
-                                                             'this near-tangent cusp (half-angle α = '
-                                                             '√(2·1e-10)) by δ/α ≈ 2e-9 rad past the exact '
-                                                             "one and reads 1.7e-9·r; the engine's cusp is "
-                                                             'the exact one (α = √(2(1 − x)) to 1e-16; '
-                                                             'closing note of 2026-12-02 evening)',
-                                                    'verify': 'oracle: its tie allowance (TIE_REL·M) moves '
-                                                              'this near-tangent cusp (half-angle α = '
-                                                              '√(2·1e-10)) by δ/α ≈ 2e-9 rad past the exact '
-                                                              "one and reads 1.7e-9·r; the engine's cusp is "
-                                                              'the exact one (α = √(2(1 − x)) to 1e-16; '
-                                                              'closing note of 2026-12-02 evening)'},
-    'slot 2r(1-1e-10) a30@1234.5,-678.25|input': {   'exact': 'oracle: its tie allowance (TIE_REL·M) moves '
-                                                              'this near-tangent cusp (half-angle α = '
-                                                              '√(2·1e-10)) by δ/α ≈ 2e-9 rad past the exact '
-                                                              "one and reads 1.7e-9·r; the engine's cusp is "
-                                                              'the exact one (α = √(2(1 − x)) to 1e-16; '
-                                                              'closing note of 2026-12-02 evening)',
-                                                     'verify': 'oracle: its tie allowance (TIE_REL·M) moves '
-                                                               'this near-tangent cusp (half-angle α = '
-                                                               '√(2·1e-10)) by δ/α ≈ 2e-9 rad past the exact '
-                                                               "one and reads 1.7e-9·r; the engine's cusp is "
-                                                               'the exact one (α = √(2(1 − x)) to 1e-16; '
-                                                               'closing note of 2026-12-02 evening)'}}
+                                                             'measures core 3e-10·r, anticore 3.4e-09·r'}}
+
+# Near-tangent cusps: the oracle's tie allowance δ = TIE_REL·M moves a cusp whose half-angle is α by about
+# δ/α along its arcs, so at α = √(2·1e-10) it reads an entry of 1.7e-9·r where the engine wraps the exact
+# cusp (α = √(2(1 − x)) to 1e-16). Measured on these cases; see the closing note of 2026-12-02 (evening).
+_CUSP_TIE = ("oracle: its tie allowance moves this near-tangent cusp by δ/α ≈ 2e-9 rad past the exact one "
+             "and reads 1.7e-9·r")
+for _off in ("a0@0,0", "a30@1234.5,-678.25"):
+    for _init in INITS:
+        KNOWN[f"slot 2r(1-1e-10) {_off}|{_init}"] = {"exact": _CUSP_TIE, "verify": _CUSP_TIE}
 
 
 @cache
