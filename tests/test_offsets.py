@@ -140,3 +140,27 @@ def test_corner_at_an_element_end_is_found_on_collinear_pixel_edges():
     T = vt.tighten(S, 10.0)
     assert T.converged and T.n_components == 1
     assert T.area == pytest.approx(3600 - (4 - math.pi) * 100, rel=1e-12)
+
+
+@pytest.mark.parametrize("angle", [0.0, 37.0])
+def test_morphology_keeps_parts_and_gaps_exactly_2r_wide(angle):
+    # Issue 24: the core of a lone bar exactly 2r wide is the bar with its ends rounded (the union of the
+    # r-disks on its centre line); a 2r bar between two squares is core, so every tightening and Mason
+    # keep it; a gap exactly 2r wide is anticore, so the fillet and the tightenings leave it open.
+    r = 1.0
+    rot = lambda g: affinity.rotate(g, angle, origin=(0, 0))   # noqa: E731
+    bar = rot(box(0, 0, 10, 2 * r))
+    # (sampled within the default tolerance, 1e-5·r: the area is off by at most perimeter × tolerance)
+    exact_area, perimeter = 8 * 2 * r + math.pi * r * r, 2 * 8 + 2 * math.pi * r
+    assert abs(vt.core(bar, r).area - exact_area) <= perimeter * 1e-5 * r
+    joined = rot(shapely.union_all([box(0, 0, 4, 4), box(4, 2 - r, 10, 2 + r), box(10, 0, 14, 4)]))
+    middle = rot(shapely.LineString([(4.5, 2), (9.5, 2)]))
+    assert vt.core(joined, r).covers(middle)
+    for init in ("core", "input", "mason"):
+        T = vt.tighten(joined, r, init=init)
+        assert T.converged and T.n_components == 1 and T.geometry.covers(middle), init
+    assert vt.mason(joined, r).covers(middle)
+    gap = rot(shapely.union_all([box(0, 0, 6, 4), box(6 + 2 * r, 0, 14, 4)]))
+    assert len(shapely.get_parts(vt.fillet(gap, r))) == 2
+    for init in ("core", "input"):
+        assert vt.tighten(gap, r, init=init).n_components == 2, init
