@@ -1,4 +1,3 @@
-import math
 import warnings
 
 import numpy as np
@@ -108,78 +107,6 @@ def test_centres_are_exact_and_valid(case):
 def test_bad_input():
     with pytest.raises(vt.InvalidRadiusError):
         vt.arc_centers(box(0, 0, 1, 1), 0)
-
-
-def _all_corners(S, r, side, piece):
-    """Brute force: every pair of features of S solved, the exact centres of ``side`` within r of piece."""
-    import itertools
-
-    from vectortighten._proximity import point_segment_distance
-    from vectortighten.centers import _distance_to_feature, _solve_pairs, boundary_edges
-
-    a, b, _ = boundary_edges(S)
-    feats = np.arange(2 * len(a))
-    fa, fb = np.array(list(itertools.combinations(feats, 2))).T
-    da, db = b[fa // 2] - a[fa // 2], b[fb // 2] - a[fb // 2]
-    cross = np.abs(da[:, 0] * db[:, 1] - da[:, 1] * db[:, 0])
-    parallel = (fa % 2 == 0) & (fb % 2 == 0) & (cross <= 1e-12 * np.hypot(*da.T) * np.hypot(*db.T))
-    own = (fa // 2 == fb // 2) & (fa % 2 != fb % 2)      # an edge's line with its own start: no corner
-    fa, fb = fa[~parallel & ~own], fb[~parallel & ~own]    # nor do parallel lines
-    row, _, sol = _solve_pairs(np.zeros((len(fa), 2)), fa, fb, a, b, r, side)
-    fa, fb = fa[row], fb[row]
-    ok = np.isfinite(sol).all(axis=1)
-    for f in (fa, fb):
-        ok &= np.abs(_distance_to_feature(sol, a[f // 2], b[f // 2], f % 2) - r) <= 1e-9 * r
-    sol = sol[ok]
-    d = np.array([point_segment_distance(np.repeat(p[None], len(a), 0), a, b).min() for p in sol])
-    inside = shapely.contains_xy(S, sol[:, 0], sol[:, 1]) == (side > 0)
-    sol = sol[(d >= r * (1 - 1e-9)) & inside & (shapely.distance(piece, shapely.points(sol)) < r)]
-    return np.unique(sol.round(9), axis=0)
-
-
-def _near(S, r, side, piece):
-    from vectortighten._proximity import EdgeIndex
-    from vectortighten.centers import _centres_near, boundary_edges
-
-    S = vt.morphology._orient(S)
-    a, b, nxt = boundary_edges(S)
-    out = _centres_near(piece, side, S, a, b, nxt, EdgeIndex(a, b, r), r, 1.0)
-    return np.unique(out.round(9), axis=0)
-
-
-def test_centres_near_a_piece_box_and_notch():
-    # The shrink of the box has its corners r in from the box's; the grow of the L has one corner, at the
-    # reflex vertex (3, 3) moved out by r along both edges.
-    assert _near(box(0, 0, 10, 6), 1.0, 1, Point(0.5, 0.5)).tolist() == [[1.0, 1.0]]
-    assert _near(box(0, 0, 10, 6), 1.0, 1, shapely.LineString([(0.2, 0.5), (9.8, 0.5)])).tolist() == \
-        [[1.0, 1.0], [9.0, 1.0]]
-    L = Polygon([(0, 0), (10, 0), (10, 3), (3, 3), (3, 10), (0, 10)])
-    assert _near(L, 1.0, -1, Point(3.5, 3.5)).tolist() == [[4.0, 4.0]]
-    assert len(_near(L, 1.0, 1, Point(3.5, 3.5))) == 0          # (the core's corners are farther)
-
-
-def _random_star(seed, k=40):
-    rng = np.random.default_rng(seed)
-    th = np.sort(rng.uniform(0, 2 * np.pi, k))
-    rad = rng.uniform(3, 10, k)
-    return Polygon(np.column_stack([rad * np.cos(th), rad * np.sin(th)]))
-
-
-@pytest.mark.parametrize("kind,seed", [("staircase", 1), ("staircase", 2), ("staircase", 3),
-                                       ("star", 4), ("star", 5), ("star", 6)])
-def test_centres_near_finds_every_centre_the_brute_force_does(kind, seed):
-    # A small pixel staircase (r several pixels) and a random star (edges every way): every exact centre
-    # within r of a piece, both sides, against all pairs of features solved (`_centres_near`'s covering).
-    S = pixel_outline(150, seed) if kind == "staircase" else _random_star(seed)
-    S = vt.morphology._orient(S)
-    x0, y0, x1, y1 = S.bounds
-    r = 0.08 * max(x1 - x0, y1 - y0)
-    rng = np.random.default_rng(seed)
-    for _ in range(4):
-        p, q = rng.uniform([x0, y0], [x1, y1], (2, 2))
-        piece = shapely.LineString([p, p + 0.3 * (q - p)])
-        for side in (1, -1):
-            assert _near(S, r, side, piece).tolist() == _all_corners(S, r, side, piece).tolist()
 
 
 def test_refine_with_no_feature_near_a_point_widens_instead_of_failing():

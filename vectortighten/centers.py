@@ -21,7 +21,7 @@ from shapely.geometry import LineString, MultiPolygon, Point, Polygon
 from ._proximity import EdgeIndex, point_segment_distance
 from ._validation import check_radius, check_shape, check_tolerance
 from .curves import Side
-from .tolerances import ANGLE_ZERO, CENTER_SEARCH_R, PENETRATION_R, ZERO_SCALE
+from .tolerances import ANGLE_ZERO, CENTER_SEARCH_R, ZERO_SCALE
 
 __all__ = ["ArcCenters", "arc_centers", "boundary_edges", "snap_to_centers"]
 
@@ -64,8 +64,8 @@ class ArcCenters:
     exact : (n,) bool
         True where the centre was solved exactly from its two features.
     source : (n, 2) float
-        The vertex of the buffered polygon each centre was refined from; NaN for a centre that the buffer
-        lost (GEOS simplifies a buffer's input) and that was found along the stretch it smoothed over.
+        The vertex of a buffered polygon each centre was refined from; NaN for the centres of
+        `exact_centers`, which come from S's exact offsets and no buffer.
     edge_start, edge_end : (m, 2) float
         The edges of S that the feature numbers refer to.
     r : float
@@ -271,10 +271,6 @@ def _clear_of_listed(xy, owner, dev, chk_start, chk_dist, chk_edge, a, b, limit,
     return low >= limit
 
 
-_MISSED_STEP_R = 5e-4                 # finest sampling (× r) along a buffer edge that lost centres
-_MISSED_SAMPLES = 50_000             # most sample points along such edges in all
-_LONE_R = 0.1                         # a recovered centre this near (× r) to a found one is left out
-_NEAR_GRID = 16                       # `_centres_near` covers its disk with a grid of spacing r / this
 _PAIR_FEATURES = 6                    # the features nearest to a point among which pairs are solved
 
 
@@ -601,236 +597,5 @@ def _without_spikes(c: np.ndarray) -> np.ndarray:
     return c
 
 
-def _snap_vertices(P, centers: ArcCenters, side: int):
-    """``P`` with each vertex that a centre of ``side`` was refined from moved onto that exact centre."""
-    pick = (centers.side == side) & centers.exact & np.isfinite(centers.source).all(axis=1)
-    return _move_vertices(P, centers.source[pick], centers.xy[pick]) if not P.is_empty else P
 
 
-def _inside(S, xy: np.ndarray) -> np.ndarray:
-    """Whether each point lies in S."""
-    return shapely.contains_xy(S, xy[:, 0], xy[:, 1]) if len(xy) else np.zeros(0, dtype=bool)
-
-
-def _nearest_keys(x, a, b, nxt, index: EdgeIndex) -> np.ndarray:
-    """The feature of S nearest to each point, as a key.
-
-    An edge's line where the point's foot falls inside the edge, else the vertex at the end it falls
-    beyond.
-    """
-    e, _ = index.nearest(x, exact=False)
-    d = b[e] - a[e]
-    t = np.einsum("ij,ij->i", x - a[e], d) / np.einsum("ij,ij->i", d, d)
-    return np.where(t <= 0.0, 2 * e + 1, np.where(t >= 1.0, 2 * nxt[e] + 1, 2 * e))
-
-
-def _missed_centres(P, S_rings, side, a, b, nxt, index: EdgeIndex, r, window, scale, excess_min, known):
-    """Exact centres that the buffer ``P`` lost: ``(xy, features, source)``.
-
-    ``P`` is the shrink for side +1, the grow for −1.
-
-    GEOS simplifies a buffer's input (by up to r/100, and differently for the two ring orientations):
-    a ledge or notch narrower than that, a stretch of pixel staircase, is smoothed over, and the vertices
-    of ``P`` it makes, with the arc centres there, never appear. Every point of the exact boundary of
-    ``P`` is at distance exactly r from S; a chord of one of its arcs lies nearer, an offset edge at r.
-    An edge of ``P`` whose midpoint lies farther than ``r + excess_min`` from S is therefore the offset of
-    a smoothed stretch (a lost centre less deep than that is within the engine's penetration allowance).
-
-    Along such an edge the exact boundary runs within the edge's excess, and its vertices are where the
-    feature of S nearest to it changes. So the edge is sampled finely (a quarter of S's typical edge, but
-    no closer than r/2000 nor farther than r/20, and at most `_MISSED_SAMPLES` points in all), the nearest
-    feature of every sample is found, and each pair of different features at consecutive samples is
-    solved exactly; the solutions clear of every feature of S by r are returned.
-
-    Only lone lost centres are looked for: none within ``_LONE_R·r`` of a centre found already (``known``,
-    a k-d tree of them, or None), and no samples within half that of one. The exact finish inserts disks
-    one at a time and does not settle among disks that close (it wound a loop round one of them on a
-    30k-vertex pixel staircase), so where S has many features close together (such a staircase at r of a
-    hundred pixels or more) the others are found only where a loop enters one (`_centres_near`, through
-    the engine's rescue); see the README's limitations. Their ``source`` is NaN (no vertex of ``P``
-    stands for them).
-    """
-    empty = np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64), np.zeros((0, 2))
-    if P.is_empty or len(a) == 0:
-        return empty
-    tiny = ZERO_SCALE * scale
-    starts, ends = [], []
-    for ring in shapely.get_rings(shapely.get_parts(P)):
-        c = shapely.get_coordinates(ring)
-        starts.append(c[:-1])
-        ends.append(c[1:])
-    p0, p1 = np.concatenate(starts), np.concatenate(ends)
-    far = index.clear_of(0.5 * (p0 + p1), r + excess_min + tiny)
-    if not far.any():
-        return empty
-    p0, p1 = p0[far], p1[far]
-    length = np.hypot(*(p1 - p0).T)
-    step = min(0.05 * r, max(0.25 * float(np.median(np.hypot(*(b - a).T))), _MISSED_STEP_R * r))
-    step = max(step, float(length.sum()) / _MISSED_SAMPLES)
-    k = np.maximum(1, np.ceil(length / step).astype(np.int64))
-    owner = np.repeat(np.arange(len(p0)), k + 1)
-    frac = (np.arange(len(owner)) - np.repeat(np.cumsum(k + 1) - (k + 1), k + 1)) / np.repeat(k, k + 1)
-    pts = p0[owner] + frac[:, None] * (p1 - p0)[owner]
-    if known is not None:
-        d, _ = known.query(pts, distance_upper_bound=0.5 * _LONE_R * r)
-        lone = np.isinf(d)
-        pts, owner = pts[lone], owner[lone]
-    key = _nearest_keys(pts, a, b, nxt, index)
-    change = np.flatnonzero((owner[1:] == owner[:-1]) & (key[1:] != key[:-1]))
-    fa, fb = key[change], key[change + 1]
-    ok = ~((fa // 2 == fb // 2) & (fa % 2 != fb % 2))          # not an edge's line with its own start
-    change, fa, fb = change[ok], fa[ok], fb[ok]
-    if len(change) == 0:
-        return empty
-    near = 0.5 * (pts[change] + pts[change + 1])
-    row, _, sol = _solve_pairs(near, fa, fb, a, b, r, side)
-    fa, fb, near = fa[row], fb[row], near[row]
-    dev = np.hypot(*(sol - near).T)
-    good = np.isfinite(sol).all(axis=1) & (dev <= 0.05 * r)
-    for f in (fa, fb):
-        good &= np.abs(_distance_to_feature(sol, a[f // 2], b[f // 2], f % 2) - r) <= 10 * tiny
-    sol, fa, fb = sol[good], fa[good], fb[good]
-    # A point clear of S's boundary by r lies inside S (a centre of the core) or outside it (of the
-    # anticore): keep those on this side.
-    keep = index.clear_of(sol, r * (1 - 1e-9) - tiny)
-    keep[keep] = _inside(S_rings, sol[keep]) == (side > 0)
-    if known is not None and keep.any():
-        d, _ = known.query(sol[keep], distance_upper_bound=_LONE_R * r)
-        keep[keep] = np.isinf(d)
-    sol, feats = sol[keep], np.column_stack([fa, fb])[keep]
-    return sol, feats, np.full((len(sol), 2), np.nan)
-
-
-def _centres_near(piece, side, S_rings, a, b, nxt, index: EdgeIndex, r, scale,
-                  done: set | None = None) -> np.ndarray:
-    """Every exact centre of ``side`` nearer than r to ``piece`` (a shapely geometry), ``(k, 2)``.
-
-    The buffers lose centres where S has features closer together than their simplification (r/100):
-    a pixel staircase at r of more than a hundred pixels. Where a loop is found to enter the shrink (or
-    grow) near such a place, this finds its corners directly from S.
-
-    A centre is a point at distance exactly r from two features of S (edge lines, vertices) and no nearer
-    to any. The points of a lattice of spacing s (fixed: multiples of s in each coordinate) nearer than
-    r + h to ``piece`` are searched, h = s/√2: the lattice point g nearest a centre y is within h of it,
-    so g is at least r − h from S and both of y's features are at most r + h from g. A feature is also
-    one of y's only if y sees it squarely: an edge's line only if y's foot falls on the edge, a vertex
-    only if y's feet on the lines of both its edges fall beyond it (else a point of an edge is nearer);
-    from g, to within h. So every pair of features that one lattice point at least r − h from S sees so,
-    within r + h, is solved exactly, and the solutions
-    nearer than r to ``piece`` that are r from both features and clear every feature of S by r, on this
-    side of S, are returned (each once). ``done`` (a set of lattice keys, updated) skips the lattice points
-    searched before: their centres were found then.
-    """
-    tiny = ZERO_SCALE * scale
-    s = r / _NEAR_GRID
-    h = (s / math.sqrt(2)) * (1 + 1e-6) + tiny
-    x0, y0, x1, y1 = shapely.bounds(piece)
-    i = np.arange(math.floor((x0 - r - s) / s), math.ceil((x1 + r + s) / s) + 1, dtype=np.int64)
-    j = np.arange(math.floor((y0 - r - s) / s), math.ceil((y1 + r + s) / s) + 1, dtype=np.int64)
-    I, J = (m.ravel() for m in np.meshgrid(i, j))
-    if done is not None:
-        keys = (I << 32) + (J & 0xFFFFFFFF)
-        fresh = ~np.isin(keys, np.fromiter(done, dtype=np.int64, count=len(done)))
-        I, J, keys = I[fresh], J[fresh], keys[fresh]
-    g = np.column_stack([I * s, J * s]).astype(float)
-    near = shapely.distance(piece, shapely.points(g)) < r + h
-    g = g[near]
-    if done is not None:
-        done.update(keys[near].tolist())
-    if len(g) == 0:
-        return np.zeros((0, 2))
-    _, dist = index.nearest(g)
-    g = g[(dist >= r - h) & (dist <= r + h)]           # (a point farther than r + h has no feature near)
-    if len(g) == 0:
-        return np.zeros((0, 2))
-    pi, ei, _ = index.near_points(g, r + h)
-    # Each edge offers its line and its start (its end is the start of the next edge, as near), where
-    # the lattice point sees them squarely; the features near each lattice point, then their pairs.
-    prv = np.empty_like(nxt)
-    prv[nxt] = np.arange(len(nxt))
-
-    def foot(x, e):                         # where x falls along edge e: 0 at its start, 1 at its end
-        d = b[e] - a[e]
-        return np.einsum("ij,ij->i", x - a[e], d) / np.einsum("ij,ij->i", d, d), h / np.hypot(*d.T)
-
-    t, slack = foot(g[pi], ei)
-    on_edge = (t >= -slack) & (t <= 1 + slack)
-    tp, slack_p = foot(g[pi], prv[ei])
-    at_start = (t <= slack) & (tp >= 1 - slack_p)
-    owner = np.concatenate([pi[on_edge], pi[at_start]])
-    key = np.concatenate([2 * ei[on_edge], 2 * ei[at_start] + 1])
-    kd = _distance_to_feature(g[owner], a[key // 2], b[key // 2], key % 2)
-    near = kd <= r + h
-    owner, key = owner[near], key[near]
-    order = np.lexsort((key, owner))
-    owner, key = owner[order], key[order]
-    first = np.r_[True, (owner[1:] != owner[:-1]) | (key[1:] != key[:-1])]
-    owner, key = owner[first], key[first]
-    counts = np.bincount(owner, minlength=len(g))
-    starts = np.cumsum(counts) - counts
-    fa, fb = [], []
-    for m in np.unique(counts[counts > 1]).tolist():
-        at = starts[counts == m]
-        i, j = np.triu_indices(m, 1)
-        fa.append(key[(at[:, None] + i).ravel()])
-        fb.append(key[(at[:, None] + j).ravel()])
-    if not fa:
-        return np.zeros((0, 2))
-    base = 2 * len(a) + 2
-    pairs = np.unique(np.concatenate(fa) * base + np.concatenate(fb))
-    fa, fb = pairs // base, pairs % base
-    # Not an edge's line with its own start, nor two parallel lines (no corner: their offsets coincide
-    # or never meet).
-    da, db = b[fa // 2] - a[fa // 2], b[fb // 2] - a[fb // 2]
-    cross = np.abs(da[:, 0] * db[:, 1] - da[:, 1] * db[:, 0])
-    parallel = (fa % 2 == 0) & (fb % 2 == 0) & (cross <= 1e-12 * np.hypot(*da.T) * np.hypot(*db.T))
-    ok = ~((fa // 2 == fb // 2) & (fa % 2 != fb % 2)) & ~parallel
-    fa, fb = fa[ok], fb[ok]
-    row, _, sol = _solve_pairs(np.zeros((len(fa), 2)), fa, fb, a, b, r, side)
-    fa, fb = fa[row], fb[row]
-    good = np.isfinite(sol).all(axis=1)
-    good[good] = shapely.distance(piece, shapely.points(sol[good])) < r
-    for f in (fa, fb):
-        good[good] &= np.abs(_distance_to_feature(sol[good], a[f[good] // 2], b[f[good] // 2], f[good] % 2)
-                             - r) <= 10 * tiny
-    sol = sol[good]
-    if len(sol) == 0:
-        return sol
-    keep = index.clear_of(sol, r * (1 - 1e-9) - tiny)
-    keep[keep] = _inside(S_rings, sol[keep]) == (side > 0)
-    sol = sol[keep]
-    if len(sol) > 1:                  # one centre solved from several pairs: keep it once
-        pairs = cKDTree(sol).query_pairs(1e-10 * r, output_type="ndarray")
-        if len(pairs):
-            drop = np.zeros(len(sol), dtype=bool)
-            drop[pairs.max(axis=1)] = True
-            sol = sol[~drop]
-    return sol
-
-
-def _arc_centers(S, r, E, G, q) -> ArcCenters:
-    a, b, nxt = boundary_edges(S)
-    index = EdgeIndex(a, b, r)
-    window, scale = _search_window(S, r, q)
-    excess_min = 2.0 * r * (1.0 - math.cos(math.pi / (4 * q))) + PENETRATION_R * r
-    out_xy, out_side, out_feat, out_exact, out_src = [], [], [], [], []
-    for side, P, convex in ((1, E, True), (-1, G, False)):
-        pts = _corner_vertices(P, convex) if not P.is_empty else np.zeros((0, 2))
-        xy, feats, exact = _refine(pts, side, a, b, nxt, index, r, window, scale)
-        known = cKDTree(xy[exact]) if exact.any() else None
-        mxy, mfeats, msrc = _missed_centres(P, S, side, a, b, nxt, index, r, window, scale, excess_min, known)
-        out_src += [pts, msrc]
-        out_xy += [xy, mxy]
-        out_side += [np.full(len(xy), side, dtype=np.int8), np.full(len(mxy), side, dtype=np.int8)]
-        out_feat += [feats, mfeats]
-        out_exact += [exact, np.ones(len(mxy), dtype=bool)]
-    return ArcCenters(
-        xy=np.concatenate(out_xy),
-        side=np.concatenate(out_side),
-        features=np.concatenate(out_feat),
-        exact=np.concatenate(out_exact),
-        source=np.concatenate(out_src),
-        edge_start=a,
-        edge_end=b,
-        r=r,
-    )
