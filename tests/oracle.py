@@ -24,9 +24,11 @@ where the distance is exact (closed-form segment–segment, segment–arc and ar
 when the piece lies in K. ``R ⊆ T ⊆ F`` holds exactly when no piece penetrates and every component of
 the shrink lies in T (every component of the anticore's centres outside T): `judge` reports both.
 
-Ties are decided to rounding: the capsules are open by ``delta = TIE_REL·M`` (M the largest coordinate
+Ties are decided to rounding: a stretch between two crossings of a capsule is removed only when its
+middle lies nearer than ``r − delta`` to the edge, ``delta = TIE_REL·M`` (M the largest coordinate
 magnitude plus r), so a part whose width is 2r to within a few ulps of its coordinates counts as 2r wide,
-as issue 24 asks. Nothing here calls ``buffer``, ``offset_curve`` or anything of `vectortighten` except
+as issue 24 asks. The crossings themselves are those of the radius-r capsule, so near-tangent cusps stay
+where they are exactly. Nothing here calls ``buffer``, ``offset_curve`` or anything of `vectortighten` except
 the piece types, whose public attributes it reads.
 """
 
@@ -387,8 +389,14 @@ def _capsule_roots_arc(c, R, a0, sig, a, b, rho):
     return (sig[:, None] * (th - a0[:, None])) % _TWO_PI
 
 
-def _removed_intervals(kind, rows, pairs_e, pairs_k, edges, rho):
-    """Open parameter intervals of each raw element inside the rho-capsule of each paired edge."""
+def _removed_intervals(kind, rows, pairs_e, pairs_k, edges, rho, r):
+    """Open parameter intervals of each raw element inside the r-capsule of each paired edge.
+
+    The cuts are the crossings of the capsule of radius r itself; an interval between cuts is removed
+    when its middle is nearer than ``rho = r − delta`` to the edge. So a tie (an element at distance r
+    from the edge to within delta) keeps the element, but a cut stays where the exact geometry puts it:
+    at a near-tangent cusp of half-angle α a cut made at rho would move by delta/α along the element.
+    """
     a, b = edges[pairs_k, :2], edges[pairs_k, 2:]
     r_e = rows[pairs_e]
     is_arc = kind[pairs_e]
@@ -403,12 +411,12 @@ def _removed_intervals(kind, rows, pairs_e, pairs_k, edges, rho):
             d = p1 - p0
             Lp = np.hypot(d[:, 0], d[:, 1])
             uu = d / np.where(Lp > 0, Lp, 1.0)[:, None]
-            roots = _capsule_roots_seg(p0, uu, aa, bb, rho)
+            roots = _capsule_roots_seg(p0, uu, aa, bb, r)
             span = Lp
         else:
             c, R, a0, sw = re_[:, :2], re_[:, 2], re_[:, 3], re_[:, 4]
             sig = np.where(sw >= 0, 1.0, -1.0)
-            roots = _capsule_roots_arc(c, R, a0, sig, aa, bb, rho)
+            roots = _capsule_roots_arc(c, R, a0, sig, aa, bb, r)
             span = np.abs(sw)
         roots = np.where((roots > 0) & (roots < span[:, None]), roots, np.nan)
         t = np.sort(np.column_stack([np.zeros(len(span)), roots, span]), axis=1)   # NaN sort last
@@ -534,7 +542,7 @@ def shrink_pieces(S, r: float, *, complement: bool = False) -> OffsetPieces:
     pe, pk = pe[keep], pk[keep]
     es, t0s, t1s = gone_e, gone_lo, gone_hi
     for s in range(0, len(pe), 1_000_000):
-        e_, a_, b_ = _removed_intervals(kind, rows, pe[s:s + 1_000_000], pk[s:s + 1_000_000], edges, rho)
+        e_, a_, b_ = _removed_intervals(kind, rows, pe[s:s + 1_000_000], pk[s:s + 1_000_000], edges, rho, r)
         es.append(e_); t0s.append(a_); t1s.append(b_)
     e, t0, t1 = np.concatenate(es), np.concatenate(t0s), np.concatenate(t1s)
     ke, k0, k1 = _kept_intervals(len(kind), span, e, t0, t1)

@@ -23,46 +23,11 @@ CASES = ec.cases("ci")
 INITS = ("core", "input")
 
 # Measured on this branch (see the module docstring); keys are "case id|init".
-KNOWN = {   'embedded neck 2r(1-0.0001)|core': {   'exact': 'issue 25: enters by core 3.7e-09·r, anticore 1.1e-10·r',
-                                           'verify': 'issue 25: verify() silent while the oracle measures '
-                                                     'core 3.7e-09·r, anticore 1.1e-10·r'},
-    'embedded neck 2r(1-1e-08)|core': {   'exact': 'issue 25: enters by core 3.7e-07·r, anticore 1.1e-10·r',
-                                          'verify': 'issue 25: verify() silent while the oracle measures '
-                                                    'core 3.7e-07·r, anticore 1.1e-10·r'},
-    'neck 2r(1-0.01) a61@-30000,20000|core': {   'exact': 'issue 25: enters by core 1.1e-09·r, anticore '
-                                                          '3e-10·r',
-                                                 'verify': 'issue 25: verify() silent while the oracle '
-                                                           'measures core 1.1e-09·r, anticore 3e-10·r'},
-    'neck 2r(1-1e-06) a30@1234.5,-678.25|core': {   'exact': 'issue 25: enters by core 4.4e-09·r, anticore '
-                                                             '1.3e-11·r',
-                                                    'verify': 'issue 25: verify() silent while the oracle '
-                                                              'measures core 4.4e-09·r (its corner report '
-                                                              'was rounding: a 1e-6 tangent at 1234)'},
-    'neck 2r(1-1e-06) a61@-30000,20000|core': {   'exact': 'issue 25: enters by core 1.1e-07·r, anticore '
-                                                           '3e-10·r',
-                                                  'verify': 'issue 25: verify() silent while the oracle '
-                                                            'measures core 1.1e-07·r (its corner report was '
-                                                            'rounding: a 1e-6 tangent at 3e4)'},
-    'neck 2r(1-1e-10) a0@0,0|core': {'decision': 'issue 25: T should not contain (0.0, 0.0)'},
-    'neck 2r(1-1e-10) a30@1234.5,-678.25|core': {   'decision': 'issue 25: T should not contain (1234.5, '
-                                                                '-678.25)'},
-    'slot 2r(1-0.001) a61@-30000,20000|core': {   'exact': 'issue 25: enters by core 3e-10·r, anticore '
-                                                           '3.4e-09·r',
-                                                  'verify': 'issue 25: verify() silent while the oracle '
-                                                            'measures core 3e-10·r, anticore 3.4e-09·r'},
-    'slot 2r(1-0.001) a61@-30000,20000|input': {   'exact': 'issue 25: enters by core 3e-10·r, anticore '
-                                                            '3.4e-09·r',
-                                                   'verify': 'issue 25: verify() silent while the oracle '
-                                                             'measures core 3e-10·r, anticore 3.4e-09·r'}}
-
-# Near-tangent cusps: the oracle's tie allowance δ = TIE_REL·M moves a cusp whose half-angle is α by about
-# δ/α along its arcs, so at α = √(2·1e-10) it reads an entry of 1.7e-9·r where the engine wraps the exact
-# cusp (α = √(2(1 − x)) to 1e-16). Measured on these cases; see the closing note of 2026-12-02 (evening).
-_CUSP_TIE = ("oracle: its tie allowance moves this near-tangent cusp by δ/α ≈ 2e-9 rad past the exact one "
-             "and reads 1.7e-9·r")
-for _off in ("a0@0,0", "a30@1234.5,-678.25"):
-    for _init in INITS:
-        KNOWN[f"slot 2r(1-1e-10) {_off}|{_init}"] = {"exact": _CUSP_TIE, "verify": _CUSP_TIE}
+KNOWN = {
+    f"neck 2r(1-1e-10) {off}|core": {
+        "decision": "issue 25: GEOS's shrink joins the two sides of this neck, so the guide's homotopy "
+                    "class keeps it"}
+    for off in ("a0@0,0", "a30@1234.5,-678.25")}
 
 
 @cache
