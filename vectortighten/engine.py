@@ -939,7 +939,8 @@ def _initial_rings(ctx: _Context, S_local, init: Init) -> list[np.ndarray]:
         return _rings(ctx.R)
     if init is Init.INPUT:
         return _rings(S_local)
-    M = _m.mason(S_local, ctx.r, tolerance=ctx.tol_int)
+    S_m, r_m, q_m = _m._prepare(S_local, ctx.r, ctx.tol_int)
+    M = _m._mason(S_m, r_m, q_m, ctx.tol_int, exact=(ctx.xE, ctx.xG, ctx.S))   # offsets computed once
     return _rings(M)
 
 
