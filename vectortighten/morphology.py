@@ -625,9 +625,13 @@ def _mason(S: Polygonal, r: float, q: int, tol: float, exact=None) -> Polygonal:
         return R
     # The second opening and closing work on chords of arcs of radius r: the exact centres that `_core`
     # and `_fillet` refine from S's own features would be refined from those chords here (a third of
-    # Mason's time on many holes, and no more exact), so their vertices stay GEOS's.
-    RF = _core(F, r, q, centres=False)
-    FR = _fillet(R, r, q, centres=False) if not R.is_empty else R
+    # Mason's time on many holes, and no more exact), so their vertices stay GEOS's. They are only ever
+    # overlaid with a pocket P ⊆ F − R, so the overlays that put R∘F inside F and F∘R around R (a second
+    # of noding along the nearly coincident boundaries on 64 holes) are left out: P ∩ R∘F ⊆ F already,
+    # and R adds nothing to P but its boundary; the result is put between R and F once, at the end.
+    E_F = _shrink_raw(F, r, q)
+    RF = _grow_raw(E_F, r, q) if not E_F.is_empty else Polygon()
+    FR = _shrink_raw(_grow_raw(R, r, q), r, q) if not R.is_empty else R
     parts = _pockets(M, 2.0 * tol)
     in_s, in_rf, in_fr = (_per_part(parts, X) for X in (S, RF, FR))
     d_rf = shapely.area(shapely.symmetric_difference(in_rf, in_s))
