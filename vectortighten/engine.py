@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 from scipy.spatial import cKDTree
-from shapely.geometry import MultiPolygon, Polygon
+from shapely.geometry import MultiLineString, MultiPolygon, Polygon
 
 from . import _convex, _fast
 from . import morphology as _m
@@ -939,7 +939,8 @@ def _initial_rings(ctx: _Context, S_local, init: Init) -> list[np.ndarray]:
         return _rings(ctx.R)
     if init is Init.INPUT:
         return _rings(S_local)
-    M = _m.mason(S_local, ctx.r, tolerance=ctx.tol_int)
+    S_m, r_m, q_m = _m._prepare(S_local, ctx.r, ctx.tol_int)
+    M = _m._mason(S_m, r_m, q_m, ctx.tol_int, exact=(ctx.xE, ctx.xG, ctx.S))   # offsets computed once
     return _rings(M)
 
 
@@ -1128,7 +1129,8 @@ class Tightening:
             ctx, _ = info
             frame = self._cache["_frame"]
             q = quad_segs_for(ctx.r, 0.25 * tol / frame.scale)
-            R = _m._nudge(_m._polygonal(shapely.intersection(_m._grow_raw(ctx.E, ctx.r, q), ctx.S)), ctx.S, True) \
+            R = _m._nudge(_m._polygonal(shapely.intersection(_reference_grow(ctx, q, 0.25 * tol / frame.scale),
+                                                             ctx.S)), ctx.S, True) \
                 if not ctx.E.is_empty else Polygon()
             F = _m._nudge(_m._polygonal(shapely.union(_m._shrink_raw(ctx.G, ctx.r, q), ctx.S)), ctx.S, False)
             T_loc = frame.to_local(T) if not T.is_empty else T
@@ -1251,6 +1253,28 @@ def _rebind(ctx: _Context, L: _DiskLoop) -> _DiskLoop:
     d, j = cKDTree(ctx.cxy).query(L.c)
     cid = np.where(d <= 1e-9 * ctx.r, j, -1)
     return _DiskLoop(cid, L.side, L.c, L.phi, L.length, L.sweep, L.r, L.converged)
+
+
+def _reference_grow(ctx: _Context, q: int, sag: float):
+    """``verify``'s reference for the grown shrink of S (the core before the overlay with S), local frame.
+
+    GEOS's shrink ``ctx.E`` stands off the exact shrink by its chords and its simplification of S (its
+    vertices on a concave arc lie up to ~1.4 chord sags outside it, about the default tolerance), so its
+    grow overshoots the true core by as much, and a tightening sampled at the tolerance was reported as
+    missing the core. The reference is instead the exact pieces (`offsets.exact_offsets`), drawn as
+    polylines within ``sag`` of their arcs and grown by r, together with E itself for the interior that
+    lies farther than r from every piece (E is within a small fraction of r of the exact shrink, so
+    every point of E that stands off it is within r of a piece and already in the grown pieces).
+    """
+    X = ctx.xE
+    angle = 2.0 * math.sqrt(2.0 * max(sag, 1e-12 * ctx.r) / ctx.r)
+    lines = [p for p in X.polylines(min(angle, math.pi / 64)) if len(p) >= 2]
+    if not lines:
+        return _m._grow_raw(ctx.E, ctx.r, q)
+    grown = shapely.buffer(MultiLineString(lines), ctx.r, quad_segs=q)
+    if len(X.corners):
+        grown = shapely.union(grown, shapely.buffer(shapely.multipoints(X.corners), ctx.r, quad_segs=q))
+    return shapely.union(grown, ctx.E)
 
 
 def _assemble(loops: list[Loop], tol: float):

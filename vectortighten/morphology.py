@@ -286,16 +286,18 @@ def _nudge(geom: Polygonal, S: Polygonal, into: bool) -> Polygonal:
     return geom
 
 
-def _core(S: Polygonal, r: float, q: int, centres: bool = True) -> Polygonal:
+def _core(S: Polygonal, r: float, q: int, centres: bool = True, exact=None) -> Polygonal:
     """The core from GEOS's shrink, snapped onto the exact corners and given back the exact pieces GEOS
     loses (parts exactly 2r wide, whose closed shrink is a centre line: `centers.missing_lines`). With
-    ``centres=False``, GEOS's shrink as it is (Mason's second opening, where its vertices are kept)."""
+    ``centres=False``, GEOS's shrink as it is (Mason's second opening, where its vertices are kept).
+    ``exact``: S's exact shrink (`_exact(S, r, 1)`) if already computed."""
     from .centers import missing_lines
 
     E = _shrink(S, r, q) if centres else _shrink_raw(S, r, q)
     R = _grow_raw(E, r, q) if not E.is_empty else Polygon()
     if centres:
-        extra = missing_lines(_exact(S, r, 1), E, r, GUIDE_MISSING_R, np.pi / (2 * q))
+        extra = missing_lines(_exact(S, r, 1) if exact is None else exact, E, r, GUIDE_MISSING_R,
+                              np.pi / (2 * q))
         if extra is not None:
             R = shapely.union(R, extra.buffer(r, quad_segs=q))
     if R.is_empty:
@@ -304,16 +306,17 @@ def _core(S: Polygonal, r: float, q: int, centres: bool = True) -> Polygonal:
     return _orient(_nudge(R, S, into=True))
 
 
-def _fillet(S: Polygonal, r: float, q: int, centres: bool = True) -> Polygonal:
+def _fillet(S: Polygonal, r: float, q: int, centres: bool = True, exact=None) -> Polygonal:
     """The fillet from GEOS's grow, snapped onto the exact corners, with the gaps GEOS closes that an
     r-disk passes (exactly 2r wide or wider by any margin: `centers.missing_lines`) opened again. With
-    ``centres=False``, GEOS's grow as it is."""
+    ``centres=False``, GEOS's grow as it is. ``exact``: `_exact(S, r, -1)` if already computed."""
     from .centers import missing_lines
 
     G = _grow(S, r, q) if centres else _grow_raw(S, r, q)
     F = shapely.union(_shrink_raw(G, r, q), S)
     if centres:
-        extra = missing_lines(_exact(S, r, -1), G, r, GUIDE_MISSING_R, np.pi / (2 * q))
+        extra = missing_lines(_exact(S, r, -1) if exact is None else exact, G, r, GUIDE_MISSING_R,
+                              np.pi / (2 * q))
         if extra is not None:
             F = shapely.difference(F, shapely.difference(extra.buffer(r, quad_segs=q), S))
     return _orient(_nudge(_polygonal(F), S, into=False))
@@ -606,17 +609,30 @@ def mason(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     True
     """
     S, r, q = _prepare(S, r, tolerance)
-    R = _core(S, r, q)
-    F = _fillet(S, r, q)
+    return _mason(S, r, q, check_tolerance(tolerance, r))
+
+
+def _mason(S: Polygonal, r: float, q: int, tol: float, exact=None) -> Polygonal:
+    """`mason` on a checked S; ``exact``: S's exact offsets ``(side +1, side −1)`` if already computed
+    (the engine has them), used only if they are of this S (bit for bit)."""
+    xE = xG = None
+    if exact is not None and shapely.equals_exact(_orient(S), _orient(exact[2]), tolerance=0.0):
+        xE, xG = exact[0], exact[1]
+    R = _core(S, r, q, exact=xE)
+    F = _fillet(S, r, q, exact=xG)
     M = _polygonal(shapely.difference(F, R))
     if M.is_empty:
         return R
     # The second opening and closing work on chords of arcs of radius r: the exact centres that `_core`
     # and `_fillet` refine from S's own features would be refined from those chords here (a third of
-    # Mason's time on many holes, and no more exact), so their vertices stay GEOS's.
-    RF = _core(F, r, q, centres=False)
-    FR = _fillet(R, r, q, centres=False) if not R.is_empty else R
-    parts = _pockets(M, 2.0 * check_tolerance(tolerance, r))
+    # Mason's time on many holes, and no more exact), so their vertices stay GEOS's. They are only ever
+    # overlaid with a pocket P ⊆ F − R, so the overlays that put R∘F inside F and F∘R around R (a second
+    # of noding along the nearly coincident boundaries on 64 holes) are left out: P ∩ R∘F ⊆ F already,
+    # and R adds nothing to P but its boundary; the result is put between R and F once, at the end.
+    E_F = _shrink_raw(F, r, q)
+    RF = _grow_raw(E_F, r, q) if not E_F.is_empty else Polygon()
+    FR = _shrink_raw(_grow_raw(R, r, q), r, q) if not R.is_empty else R
+    parts = _pockets(M, 2.0 * tol)
     in_s, in_rf, in_fr = (_per_part(parts, X) for X in (S, RF, FR))
     d_rf = shapely.area(shapely.symmetric_difference(in_rf, in_s))
     d_fr = shapely.area(shapely.symmetric_difference(in_fr, in_s))
