@@ -36,46 +36,6 @@ __all__ = ["OffsetPieces", "exact_offsets", "precision_of"]
 
 _TWO_PI = 2.0 * math.pi
 _ARC_SAMPLES = 9            # points of the polyline that stands in for an arc in the reach query
-_BRUTE_PAIRS = 60_000       # below this many (point or chord, edge) pairs a query skips the R-tree
-
-
-def _point_segment_geos(px, py, ax, ay, bx, by):
-    """GEOS's point–segment distance (``Distance::pointToSegment``), elementwise, with GEOS's operations.
-
-    On a small shape a numpy pass over every (point, edge) pair is cheaper than an R-tree query per
-    point; the same floating-point operations in the same order give the same distances, bit for bit.
-    """
-    dx, dy = bx - ax, by - ay
-    len2 = dx * dx + dy * dy
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = ((px - ax) * dx + (py - ay) * dy) / len2
-        s = ((ay - py) * dx - (ax - px) * dy) / len2
-        mid = np.abs(s) * np.sqrt(len2)
-    ex, ey = px - ax, py - ay
-    d_a = np.sqrt(ex * ex + ey * ey)
-    ex, ey = px - bx, py - by
-    d_b = np.sqrt(ex * ex + ey * ey)
-    return np.where(((ax == bx) & (ay == by)) | (t <= 0.0), d_a, np.where(t >= 1.0, d_b, mid))
-
-
-def _segment_segment_geos(ax, ay, bx, by, cx, cy, dx, dy):
-    """GEOS's segment–segment distance (``Distance::segmentToSegment``), elementwise."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        denom = (bx - ax) * (dy - cy) - (by - ay) * (dx - cx)
-        r = ((ay - cy) * (dx - cx) - (ax - cx) * (dy - cy)) / denom
-        s = ((ay - cy) * (bx - ax) - (ax - cx) * (by - ay)) / denom
-    boxes = (np.maximum(ax, bx) >= np.minimum(cx, dx)) & (np.maximum(cx, dx) >= np.minimum(ax, bx)) & \
-        (np.maximum(ay, by) >= np.minimum(cy, dy)) & (np.maximum(cy, dy) >= np.minimum(ay, by))
-    crossing = boxes & (denom != 0) & (r >= 0) & (r <= 1) & (s >= 0) & (s <= 1)
-    d = np.minimum(np.minimum(_point_segment_geos(ax, ay, cx, cy, dx, dy),
-                              _point_segment_geos(bx, by, cx, cy, dx, dy)),
-                   np.minimum(_point_segment_geos(cx, cy, ax, ay, bx, by),
-                              _point_segment_geos(dx, dy, ax, ay, bx, by)))
-    d = np.where(crossing, 0.0, d)
-    ab = (ax == bx) & (ay == by)
-    cd = (cx == dx) & (cy == dy)
-    d = np.where(cd, _point_segment_geos(dx, dy, ax, ay, bx, by), d)
-    return np.where(ab, _point_segment_geos(ax, ay, cx, cy, dx, dy), d)
 
 
 def precision_of(S) -> float:
@@ -280,26 +240,6 @@ class _Elements:
 
     def geoms(self, e, lo, hi):
         """The sub-pieces as shapely lines (an arc by a polyline), for reach queries; and their sag."""
-        xy, sag = self._samples(e, lo, hi)
-        return shapely.linestrings(xy), sag
-
-    def reach(self, e, lo, hi, slack: float):
-        """Pairs (sub-piece, edge) with the edge within r + sag + ``slack`` of the sub-piece's polyline.
-
-        What ``tree.query(geoms, predicate="dwithin")`` gives; on a small shape by GEOS's own segment
-        distances over every pair (sorted by sub-piece, then edge), without the R-tree.
-        """
-        xy, sag = self._samples(e, lo, hi)
-        dist = self.r + sag + slack
-        if len(e) * (xy.shape[1] - 1) * len(self.a) > _BRUTE_PAIRS:
-            return self.tree.query(shapely.linestrings(xy), predicate="dwithin", distance=dist)
-        p, q = xy[:, :-1, None, :], xy[:, 1:, None, :]
-        a, b = self.a[None, None], self.b[None, None]
-        d = _segment_segment_geos(p[..., 0], p[..., 1], q[..., 0], q[..., 1], a[..., 0], a[..., 1], b[..., 0],
-                                  b[..., 1])
-        return np.nonzero(d.min(axis=1) <= dist)
-
-    def _samples(self, e, lo, hi):
         m = _ARC_SAMPLES
         t = lo[:, None] + (hi - lo)[:, None] * np.linspace(0.0, 1.0, m)[None, :]
         is_seg = e < self.n_seg
@@ -307,7 +247,7 @@ class _Elements:
         xy = self.points(np.repeat(e, m), t.ravel()).reshape(len(e), m, 2)
         step = np.where(is_seg, 0.0, np.abs(self.arc_sw[np.clip(e - self.n_seg, 0, None)] if self.n_arc
                                              else 0.0) * (hi - lo) / (m - 1))
-        return xy, float(self.r * (1.0 - np.cos(0.5 * step)).max(initial=0.0))
+        return shapely.linestrings(xy), float(self.r * (1.0 - np.cos(0.5 * step)).max(initial=0.0))
 
     def clearance(self, xy):
         """Distance of each point to S's boundary, and the nearest edge.
@@ -333,15 +273,7 @@ class _Elements:
         deep[found[hit]] = True
         d[found[hit]], e[found[hit]] = dj[hit], j[found[hit]]
         rest = np.flatnonzero(~deep)
-        if len(rest) and len(rest) * len(self.a) <= _BRUTE_PAIRS:
-            # A small shape: GEOS's point-segment distance to every edge (the same distances); of two
-            # equally near edges the first (the R-tree may name the other: either capsule holds the point).
-            p = xy[rest]
-            D = _point_segment_geos(p[:, :1], p[:, 1:], self.a[None, :, 0], self.a[None, :, 1],
-                                    self.b[None, :, 0], self.b[None, :, 1])
-            er = np.argmin(D, axis=1)
-            d[rest], e[rest] = D[np.arange(len(rest)), er], er
-        elif len(rest):
+        if len(rest):
             (_, er), dr = self.tree.query_nearest(shapely.points(xy[rest]), return_distance=True,
                                                   all_matches=False)
             d[rest], e[rest] = dr, er
@@ -561,7 +493,8 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False) -> OffsetPie
             nxt_el.append(el[lc][row]), nxt_lo.append(s0), nxt_hi.append(s1)
             c = c[~long_]
         if len(c):
-            pi, pj = X.reach(el[c], lo[c], hi[c], 4.0 * eps)
+            g, sag = X.geoms(el[c], lo[c], hi[c])
+            pi, pj = X.tree.query(g, predicate="dwithin", distance=r + sag + 4.0 * eps)
             own = (X.own[el[c][pi], 0] == pj) | (X.own[el[c][pi], 1] == pj)
             pi, pj = pi[~own], pj[~own]
             gaps, touch = _uncovered(X, el[c], lo[c], hi[c], pi, pj)
