@@ -36,7 +36,7 @@ from shapely.geometry import MultiLineString, MultiPolygon, Polygon
 
 from . import _convex, _fast
 from . import morphology as _m
-from ._pieces import piece_distance
+from ._pieces import piece_distance, piece_distances
 from ._proximity import EdgeIndex, PointIndex
 from ._guard import guarded_tighten
 from ._validation import check_output_size, check_radius, check_resolution, check_shape, check_tolerance, \
@@ -493,7 +493,8 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
         for i in np.unique(si):
             flag(2 * int(seg_ids[i]) + 1, mid[i])
         si, ei = ctx.oindex.near_segments(sp, sq, thr_c + ctx.osag)
-        for i, e, _ in _exact_entries(ctx, lambda i: ("seg", (sp[i], sq[i])), si, ei, thr_c):
+        seg_arrays = (np.zeros(len(sp), dtype=bool), np.column_stack([sp, sq, np.zeros(len(sp))]))
+        for i, e, _ in _exact_entries(ctx, lambda i: ("seg", (sp[i], sq[i])), si, ei, thr_c, seg_arrays):
             flag(2 * int(seg_ids[i]) + 1, mid[i], (e,))
         for i in np.flatnonzero(ctx.in_regions(mid) != 0):
             flag(2 * int(seg_ids[i]) + 1, mid[i])
@@ -523,8 +524,9 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
         step = float((np.abs(L.sweep[arcs]) / m).max(initial=0.0))
         reach = thr_c + ctx.osag + r * (1.0 - math.cos(0.5 * step)) + 1e-12 * r
         pi, ei = ctx.oindex.near_segments(cp, cq, reach)
+        arc_arrays = (np.ones(n, dtype=bool), np.column_stack([L.c, np.full(n, r), a0, L.sweep]))
         for k, e, x in _exact_entries(ctx, lambda i: ("arc", (L.c[i], r, a0[i], L.sweep[i])), own_c[pi], ei,
-                                      thr_c):
+                                      thr_c, arc_arrays):
             flag(2 * int(k), x, (e,))
     found: dict[int, tuple | None] = {}
     for piece in sorted(bad):
@@ -563,12 +565,14 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
     return [(piece, *found[piece]) for piece in sorted(found) if found[piece] is not None]
 
 
-def _exact_entries(ctx: _Context, piece_of, li: np.ndarray, ei: np.ndarray, thr: float):
+def _exact_entries(ctx: _Context, piece_of, li: np.ndarray, ei: np.ndarray, thr: float, arrays=None):
     """The (loop piece, obstacle edge, nearest point) where a loop piece truly comes nearer than ``thr`` to
     the exact offset piece behind an obstacle edge.
 
     ``li``/``ei`` pair loop pieces (given by ``piece_of(i)``) with obstacle edges from a proximity query;
     each (loop piece, exact piece) pair is decided once, by the closed-form distance (`piece_distance`).
+    ``arrays`` (whether an arc, (n, 5) parameters: `_pieces.piece_distances`), when given, describes the
+    loop pieces ``piece_of(i)`` too: the pairs clearly farther than ``thr`` are then set aside at once.
     """
     out = []
     if len(li) == 0:
@@ -578,11 +582,33 @@ def _exact_entries(ctx: _Context, piece_of, li: np.ndarray, ei: np.ndarray, thr:
     li, pj, ei = li[order], pj[order], ei[order]
     first = np.ones(len(li), dtype=bool)
     first[1:] = (li[1:] != li[:-1]) | (pj[1:] != pj[:-1])
-    for i, j, e in zip(li[first].tolist(), pj[first].tolist(), ei[first].tolist()):
+    li, pj, ei = li[first], pj[first], ei[first]
+    if arrays is not None:
+        # Most pairs are a loop piece resting on the obstacle (distance r, above thr by pen_center): the
+        # vectorised distances set aside those clearly at or beyond thr, the rest are decided exactly.
+        is_arc, params = arrays
+        o_arc, o_params = _obstacle_arrays(ctx)
+        d = piece_distances(is_arc[li], params[li], o_arc[pj], o_params[pj])
+        size = 1.0 + ctx.r + max(float(np.abs(params[:, :2]).max()), float(np.abs(o_params[:, :2]).max()))
+        margin = max(0.1 * (ctx.r - thr), 64 * np.finfo(float).eps * size)    # ≫ their rounding
+        near = ~(d >= thr + margin)
+        li, pj, ei = li[near], pj[near], ei[near]
+    for i, j, e in zip(li.tolist(), pj.tolist(), ei.tolist()):
         d, x, _ = piece_distance(piece_of(i), ctx.opieces[j][1])
         if d < thr:
             out.append((i, e, x))
     return out
+
+
+def _obstacle_arrays(ctx: _Context) -> tuple[np.ndarray, np.ndarray]:
+    """``ctx.opieces`` as arrays for `piece_distances` (whether an arc; (n, 5) parameters), built once."""
+    got = getattr(ctx, "_opiece_arrays", None)
+    if got is None:
+        arc = np.array([p[1][0] == "arc" for p in ctx.opieces], dtype=bool)
+        params = np.array([(*g[0], *g[1], 0.0) if k == "seg" else (*g[0], g[1], g[2], g[3])
+                           for k, g in (p[1] for p in ctx.opieces)], dtype=float).reshape(-1, 5)
+        got = ctx._opiece_arrays = (arc, params)
+    return got
 
 
 def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
