@@ -71,7 +71,16 @@ def main(argv=None) -> int:
     p.add_argument("--only", default=None, help="run the cases whose name contains this")
     p.add_argument("--inits", default=",".join(INITS))
     p.add_argument("--radius-index", type=int, default=None, help="only the radius of this index")
+    p.add_argument("--failed-in", type=Path, default=None,
+                   help="run only the cases that did not agree in this JSON-lines file (with --explain)")
     args = p.parse_args(argv)
+    todo = None
+    if args.failed_in is not None:
+        done = set()
+        if args.out.exists():
+            done = {(d["name"], round(d["r"], 9), d["init"]) for d in map(json.loads, args.out.open())}
+        todo = {(d["name"], round(d["r"], 9), d["init"]) for d in map(json.loads, args.failed_in.open())
+                if not d.get("agree", False)} - done
     by_key = {(c.family, c.name): c for c in corpus.cases(sorted({f for f, _ in CHOSEN}))}
     missing = [k for k in CHOSEN if k not in by_key]
     if missing:
@@ -87,6 +96,10 @@ def main(argv=None) -> int:
                 if args.radius_index is not None and ri != args.radius_index:
                     continue
                 for init in args.inits.split(","):
+                    if todo is not None and (case.name, round(r, 9), init) not in todo:
+                        continue
+                    if todo is not None:
+                        todo.discard((case.name, round(r, 9), init))   # a radius repeated by the floor: once
                     t0 = time.perf_counter()
                     row = {"family": case.family, "name": case.name, "r": r, "r_index": ri, "init": init}
                     try:
@@ -99,7 +112,7 @@ def main(argv=None) -> int:
                                        sym_share=C.symmetric_difference_share,
                                        warnings=sorted({type(w.message).__name__ for w in caught}))
                             if args.explain and not C.agree:
-                                ex = C.explain(S=case.shape)
+                                ex = C.explain()
                                 row["verdicts"] = [d.kind for d in ex]
                                 row["explain"] = C.explain_text(ex)
                     except Exception as exc:  # noqa: BLE001 - a benchmark records the failure and goes on
