@@ -57,7 +57,8 @@ class Disagreement:
     bbox : (int, int, int, int)
         (row0, col0, row1, col1) of the region on the grid, end exclusive.
     topology : str
-        What the region changes in the topology ("" if nothing): e.g. "a hole only in the pixel result".
+        What the region changes in the topology ("" if nothing): the change of components − holes that
+        replacing the exact result by the pixel result there makes, in words.
     perimeters : dict or None
         For ``"two valid tightenings"``: the perimeter of each result ("exact", "pixel", in S's units)
         and ``"shorter"``, the name of the shorter one.
