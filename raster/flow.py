@@ -677,6 +677,33 @@ def _upsample(phi: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
     return (2.0 * (top * (1 - fr) + bot * fr)).astype(np.float32)
 
 
+#: Above this radius (pixels) every part of the core and of the anticore holds a pixel centre: each holds
+#: an open disk of radius r, and a disk of radius over √2/2 always holds one.
+_SLACK_RADIUS = 0.75
+
+
+def _drop_slack_parts(inside: np.ndarray, R: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """``inside`` with its holes that hold no anticore filled and its components that hold no core removed.
+
+    A tightening's boundary loop around a region of mortar alone is not tight: it can shrink within the
+    mortar until it vanishes (a tight loop turns left only around core disks and right only around
+    anticore disks). The flow can leave such a part behind where it does not rest, e.g. a hole cut off by
+    a chain of single pixels joined at their corners (8-connected) that it keeps swinging; the level set
+    would close it. Components are 8-connected, holes 4-connected (the dual pair).
+    """
+    lab, n = ndimage.label(np.pad(~inside, 1, constant_values=True))     # the frame joins the outside
+    if n > 1:
+        anti = np.asarray(ndimage.maximum(np.pad(~F, 1), lab, np.arange(1, n + 1)), dtype=bool)
+        fill = np.r_[False, ~anti]
+        fill[lab[0, 0]] = False                         # the outside is not a hole
+        inside = inside | fill[lab[1:-1, 1:-1]]
+    lab, n = ndimage.label(inside, structure=np.ones((3, 3), bool))
+    if n:
+        has = np.asarray(ndimage.maximum(R, lab, np.arange(1, n + 1)), dtype=bool)
+        inside = inside & np.r_[False, has][lab]
+    return inside
+
+
 def _step_cap(shape: tuple[int, int]) -> int:
     """The safety net on a level's steps when ``iterations`` is None: `MIN_CAP`, or the level's
     perimeter in pixels times `CAP_PER_PIXEL` if that is more."""
@@ -826,6 +853,8 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
         timings[f"flow level {k}"] = time.perf_counter() - t0
     out = (phi < 0) | R
     out &= F
+    if r > _SLACK_RADIUS:
+        out = _drop_slack_parts(out, R, F)
     curves = None
     if finish == "mpp":
         t0 = time.perf_counter()

@@ -17,10 +17,76 @@ from scipy import ndimage
 
 from ._validation import check_radius, check_shape
 
-__all__ = ["AGREE_PX", "CrossCheck", "crosscheck", "pixel_squares", "plot_crosscheck"]
+__all__ = ["AGREE_PX", "KINDS", "CrossCheck", "Disagreement", "crosscheck", "pixel_squares", "plot_crosscheck"]
 
 #: The agreement the project promises: boundaries within this many pixels (Hausdorff), equal topology.
 AGREE_PX = 2.0
+
+#: The verdicts of `CrossCheck.explain`, in the order they are tried.
+KINDS = ("defect of the pixel side", "defect of the exact side", "rasterisation (not resolvable)",
+         "rasterisation (resolvable)", "unconverged flow", "two valid tightenings", "unexplained")
+
+
+@dataclass
+class Disagreement:
+    """One region where the exact and the pixel tightening differ, and why (`CrossCheck.explain`).
+
+    Attributes
+    ----------
+    kind : str
+        One of `KINDS`: ``"defect of the pixel side"`` (the pixel result breaks core ⊆ T ⊆ F here, or has
+        a component holding no core or a hole holding no anticore: a tight loop around nothing of them
+        could still shrink); ``"rasterisation (not resolvable)"`` (the exact tightening of the pixel
+        input agrees with the pixel result here, and so does the exact tightening of S moved by the
+        rasterisation's own error, half a pixel diagonal: no pixel method can decide this region at this
+        pixel size); ``"defect of the exact side"`` (the exact result's `verify` reports violations; tried
+        before the rasterisation, since the exact tightening of the pixel input, right, would agree with
+        the pixel result there too); ``"rasterisation (resolvable)"`` (the exact tightening of the pixel
+        input agrees with the pixel result, S moved by half a pixel diagonal does not: a finer grid
+        resolves it); ``"unconverged flow"`` (the flow did not rest at some level);
+        ``"two valid tightenings"`` (both sides are
+        valid and the core or the anticore has several parts, where tightenings are not unique: see
+        ``perimeters``); ``"unexplained"`` (none of these: both sides look valid and the tightening
+        should be unique, so one of them is wrong; ``evidence`` says what was checked).
+    pixels : int
+        Pixels of the region (a connected component of the symmetric difference).
+    depth_px : float
+        How far the region reaches from the exact tightening's boundary, pixels.
+    centre : (float, float)
+        The region's centroid, in S's units.
+    bbox : (int, int, int, int)
+        (row0, col0, row1, col1) of the region on the grid, end exclusive.
+    topology : str
+        What the region changes in the topology ("" if nothing): the change of components − holes that
+        replacing the exact result by the pixel result there makes, in words.
+    perimeters : dict or None
+        For ``"two valid tightenings"``: the perimeter of each result ("exact", "pixel", in S's units)
+        and ``"shorter"``, the name of the shorter one.
+    evidence : list of str
+        The checks behind the verdict, one sentence each.
+    """
+
+    kind: str
+    pixels: int
+    depth_px: float
+    centre: tuple
+    bbox: tuple
+    topology: str = ""
+    perimeters: dict | None = None
+    evidence: list = field(default_factory=list)
+
+    def text(self) -> str:
+        """The verdict in one paragraph."""
+        where = f"({self.centre[0]:.4g}, {self.centre[1]:.4g})"
+        head = f"{self.kind}: {self.pixels} px near {where}, reaching {self.depth_px:.2g} px from the exact boundary"
+        if self.topology:
+            head += f"; {self.topology}"
+        lines = [head]
+        if self.perimeters:
+            p = self.perimeters
+            lines.append(f"  perimeters: exact {p['exact']:.6g}, pixel {p['pixel']:.6g}; shorter: {p['shorter']}")
+        lines += [f"  - {e}" for e in self.evidence]
+        return "\n".join(lines)
 
 
 @dataclass
@@ -66,6 +132,8 @@ class CrossCheck:
     vector_mask: np.ndarray = field(repr=False)
     mask_hausdorff_px: float | None = None
     mask_topology: tuple | None = None
+    supersample: int = 1
+    mask_vector: object = field(default=None, repr=False)
 
     @property
     def symmetric_difference_share(self) -> float:
@@ -111,6 +179,53 @@ class CrossCheck:
             ]
         width = max(len(k) for k, _ in rows)
         return "\n".join(f"{k:<{width}}  {v}" for k, v in rows)
+
+
+    def explain(self) -> list[Disagreement]:
+        """Classify each region where the two results differ beyond the rasterisation allowance.
+
+        A region is a connected component (8-connected) of the symmetric difference of the rasterised
+        exact tightening and the pixel result that reaches more than `AGREE_PX` pixels from the exact
+        boundary (``AGREE_PX − 1`` when the check does not agree: a mask samples each boundary at the
+        pixel centres, half a pixel either way) or changes the topology (components − holes) where it
+        lies. Each gets a verdict from
+        `KINDS`, tried in order, with the evidence: the pixel result's own ``core ⊆ T ⊆ F`` and whether
+        each of its components holds core and each hole anticore; the exact tightening of the pixel input
+        itself (the union of the fine mask's squares) and of S moved by ±½ pixel diagonal; whether the
+        flow rested at every level; the exact side's `Tightening.verify`; and the parts of the core and
+        the anticore (tightenings are unique only when each is connected).
+
+        Costs up to three more exact tightenings (the mask's, computed once unless the check was made
+        with ``mask_reference=True``, and the two moved copies of S, only if a region needs them).
+
+        Returns
+        -------
+        list of Disagreement
+            Largest first; empty when no region reaches beyond the allowance.
+
+        Examples
+        --------
+        >>> from shapely.geometry import box
+        >>> c = crosscheck(box(0, 0, 10, 10), 2.0, pixel_size=0.1)
+        >>> c.explain()
+        []
+        """
+        return _explain(self)
+
+    def explain_text(self, found: list | None = None) -> str:
+        """`explain`'s verdicts as readable text (``found``: a list `explain` returned, to reuse it)."""
+        found = self.explain() if found is None else found
+        if not found:
+            if self.agree:
+                return "no region differs beyond the rasterisation allowance: the two agree"
+            return (f"no region differs beyond the rasterisation allowance, yet the check does not agree "
+                    f"(topology {self.vector_topology} vs {self.raster_topology}, "
+                    f"{self.hausdorff_px:.3g} px)")
+        kinds = {}
+        for d in found:
+            kinds[d.kind] = kinds.get(d.kind, 0) + 1
+        head = f"{len(found)} differing region(s): " + ", ".join(f"{n} {k}" for k, n in kinds.items())
+        return "\n".join([head] + [d.text() for d in found])
 
 
 def _within_target(topology_a, topology_b, hausdorff_px: float) -> bool:
@@ -250,16 +365,190 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
     vmask, _ = raster.rasterize(T.geometry, grid) if not T.geometry.is_empty else (np.zeros(grid.shape, bool), grid)
     contour = raster.contours(RT, grid)
     h = _boundary_distance(T.geometry, contour, pixel_size)
-    mask_h = mask_topo = None
+    mask_h = mask_topo = TM = None
     if mask_reference:
         TM = tighten(pixel_squares(mask, fine), r, init=init)
         mask_topo = (TM.n_components, TM.n_holes)
         mask_h = _boundary_distance(TM.geometry, contour, pixel_size)
     return CrossCheck(r=r, pixel_size=pixel_size, init=str(getattr(init, "value", init)), hausdorff_px=float(h),
+                      supersample=int(supersample), mask_vector=TM if mask_reference else None,
                       symmetric_difference_px=int((vmask ^ RT.mask).sum()), mortar_px=int(RT.mortar.sum()),
                       vector_topology=(T.n_components, T.n_holes), raster_topology=_topology(RT.mask),
                       vector=T, raster=RT, grid=grid, vector_mask=vmask, mask_hausdorff_px=mask_h,
                       mask_topology=mask_topo)
+
+
+def _euler8(a: np.ndarray) -> int:
+    """Euler number (components − holes) of a mask, 8-connected inside, by counting its 2 × 2 quads."""
+    p = np.pad(a.astype(np.int8), 1)
+    q = p[:-1, :-1] + p[:-1, 1:] + p[1:, :-1] + p[1:, 1:]
+    diag = (q == 2) & (p[:-1, :-1] == p[1:, 1:])
+    return int((np.count_nonzero(q == 1) - np.count_nonzero(q == 3) - 2 * np.count_nonzero(diag)) // 4)
+
+
+def _without(parts_mask: np.ndarray, labels: np.ndarray, n: int, lacking: np.ndarray) -> np.ndarray:
+    """The union of the labelled parts (1..n) that hold no pixel of ``lacking``."""
+    if n == 0:
+        return np.zeros(labels.shape, bool)
+    has = np.asarray(ndimage.maximum(lacking, labels, np.arange(1, n + 1)), dtype=bool)
+    bad = np.r_[False, ~has]
+    return bad[labels] & parts_mask
+
+
+def _explain(check: CrossCheck) -> list[Disagreement]:
+    import raster
+
+    from .engine import tighten
+
+    T, RT, grid = check.vector, check.raster, check.grid
+    vm, pm = check.vector_mask, RT.mask
+    diff = vm ^ pm
+    lab, n = ndimage.label(diff, structure=np.ones((3, 3), bool))
+    if n == 0:
+        return []
+    if vm.any():
+        depth = np.where(vm, ndimage.distance_transform_edt(vm), ndimage.distance_transform_edt(~vm)) - 0.5
+    else:
+        depth = np.full(vm.shape, np.inf)
+    ids = np.arange(1, n + 1)
+    deep = np.asarray(ndimage.maximum(depth, lab, ids), dtype=float)
+    sizes = np.bincount(lab.ravel(), minlength=n + 1)[1:]
+    boxes = ndimage.find_objects(lab)
+    h = grid.pixel_size
+    # The pixel result's own validity: core ⊆ T ⊆ F, every component holds core, every hole anticore.
+    lost_core = RT.core & ~pm
+    outside = pm & ~RT.fillet
+    eight = np.ones((3, 3), bool)
+    lab_in, n_in = ndimage.label(pm, structure=eight)
+    no_core = _without(pm, lab_in, n_in, RT.core)
+    lab_out, n_out = ndimage.label(np.pad(~pm, 1))
+    hollow = _without(lab_out > 0, lab_out, n_out, np.pad(~RT.fillet, 1))
+    hollow &= lab_out != lab_out[0, 0]
+    hollow = hollow[1:-1, 1:-1]
+    lazy: dict = {}
+
+    def exact_of_mask():
+        if "mask" not in lazy:
+            TM = check.mask_vector
+            if TM is None:
+                ss = check.supersample
+                fine = raster.Grid(grid.x0, grid.y_top, h / ss, (grid.shape[0] * ss, grid.shape[1] * ss))
+                mask, _ = raster.rasterize(T.shape, fine)
+                TM = tighten(pixel_squares(mask, fine), check.r, init=check.init)
+            lazy["mask"] = _rasterised(TM.geometry, grid)
+        return lazy["mask"]
+
+    def moved():
+        if "moved" not in lazy:
+            delta = h / check.supersample * math.sqrt(0.5)
+            lazy["moved"] = [_rasterised(tighten(T.shape.buffer(sign * delta, join_style="mitre", mitre_limit=10.0),
+                                                 check.r, init=check.init).geometry, grid) for sign in (-1, 1)]
+        return lazy["moved"]
+
+    def verified():
+        if "verify" not in lazy:
+            lazy["verify"] = T.verify()
+        return lazy["verify"]
+
+    # A mask samples each boundary at the pixel centres, so a region of depth d holds boundary points up to
+    # d + ½ px apart (and as little as d − ½): when the check does not agree, look from AGREE_PX − 1 on.
+    allowance = AGREE_PX if check.agree else AGREE_PX - 1.0
+    rest = (f"pixel: the flow rested at every level (steps {RT.iterations})" if RT.is_converged else
+            f"pixel: the flow did not rest at every level (rested: {RT.converged}, steps: {RT.iterations}, "
+            f"budget: {RT.budget})")
+    out = []
+    for j in range(n):
+        sl = boxes[j]
+        region_full = lab == j + 1
+        r0, r1 = max(sl[0].start - 1, 0), min(sl[0].stop + 1, vm.shape[0])
+        c0, c1 = max(sl[1].start - 1, 0), min(sl[1].stop + 1, vm.shape[1])
+        win = (slice(r0, r1), slice(c0, c1))
+        region = region_full[win]
+        flipped = vm[win].copy()
+        flipped[region] = pm[win][region]
+        d_euler = _euler8(flipped) - _euler8(vm[win])
+        if deep[j] <= allowance and d_euler == 0:
+            continue
+        rows, cols = np.nonzero(region)
+        cy = grid.y_top - (rows.mean() + r0 + 0.5) * h
+        cx = grid.x0 + (cols.mean() + c0 + 0.5) * h
+        topo = ""
+        if d_euler:
+            more = "pixel" if d_euler < 0 else "exact"
+            topo = (f"components − holes {d_euler:+d} in the pixel result here "
+                    f"(a hole or a join more, or a part less, in the {more} result)")
+        d = Disagreement(kind="unexplained", pixels=int(sizes[j]), depth_px=float(deep[j]), centre=(cx, cy),
+                         bbox=(sl[0].start, sl[1].start, sl[0].stop, sl[1].stop), topology=topo)
+        ev = d.evidence
+        n_lost, n_out_f = int(lost_core[win][region].sum()), int(outside[win][region].sum())
+        n_nocore, n_hollow = int(no_core[win][region].sum()), int(hollow[win][region].sum())
+        if n_hollow and not T.fillet.is_empty:
+            # The pixel anticore is sampled at the pixel centres; a sliver of the exact one may fall between.
+            inner = lab_out[1:-1, 1:-1]
+            hole = pixel_squares(np.isin(inner, np.unique(inner[region_full & hollow])), grid)
+            if hole.difference(T.fillet).area > 1e-9 * h * h:
+                n_hollow = 0
+        if n_lost or n_out_f or n_nocore or n_hollow:
+            d.kind = "defect of the pixel side"
+            if n_lost or n_out_f:
+                ev.append(f"pixel: core ⊆ T ⊆ F fails here ({n_lost} core pixels outside T, "
+                          f"{n_out_f} pixels of T in the anticore)")
+            if n_nocore:
+                ev.append(f"pixel: a component of T ({n_nocore} px here) holds no core pixel: a tight loop "
+                          f"around it could still shrink")
+            if n_hollow:
+                ev.append(f"pixel: a hole of T ({n_hollow} px here) holds no anticore (pixel or exact): a tight "
+                          f"loop around it could still shrink")
+            ev.append(rest)
+            out.append(d)
+            continue
+        ev.append("pixel: core ⊆ T ⊆ F holds here; its components here hold core, its holes anticore")
+        problems = verified()
+        if problems:
+            d.kind = "defect of the exact side"
+            ev += [f"exact verify(): {p}" for p in problems]
+            ev.append(rest)
+            out.append(d)
+            continue
+        ev.append("exact verify(): no violation")
+        mm = exact_of_mask()
+        share_mask = float((mm[win] == pm[win])[region].mean())
+        ev.append(f"the exact tightening of the pixel input agrees with the pixel result on "
+                  f"{100 * share_mask:.0f}% of the region")
+        if share_mask >= 0.5:
+            shares = [float((tm[win] == pm[win])[region].mean()) for tm in moved()]
+            ev.append(f"S moved by ∓½ pixel diagonal: its exact tightening agrees with the pixel result on "
+                      f"{100 * shares[0]:.0f}% / {100 * shares[1]:.0f}% of the region")
+            d.kind = "rasterisation (not resolvable)" if max(shares) >= 0.5 else "rasterisation (resolvable)"
+            ev.append(rest)
+            out.append(d)
+            continue
+        ev.append(rest)
+        if not RT.is_converged:
+            d.kind = "unconverged flow"
+            out.append(d)
+            continue
+        core_parts = len(shapely.get_parts(T.core)) if not T.core.is_empty else 0
+        anti_parts = 1 + sum(len(p.interiors) for p in shapely.get_parts(T.fillet))
+        ev.append(f"the core has {core_parts} part(s), the anticore {anti_parts}")
+        if core_parts > 1 or anti_parts > 1:
+            d.kind = "two valid tightenings"
+            pe = float(T.perimeter)
+            pp = float(raster.contours(RT, grid).length)
+            d.perimeters = {"exact": pe, "pixel": pp, "shorter": "exact" if pe < pp else "pixel"}
+        else:
+            ev.append("with a connected core and anticore the tightening is unique, so one side is wrong")
+        out.append(d)
+    out.sort(key=lambda d: -d.pixels)
+    return out
+
+
+def _rasterised(geometry, grid) -> np.ndarray:
+    import raster
+
+    if geometry.is_empty:
+        return np.zeros(grid.shape, bool)
+    return raster.rasterize(geometry, grid)[0]
 
 
 def _boundary_distance(a, b, pixel_size: float) -> float:
