@@ -319,7 +319,7 @@ def _fillet(S: Polygonal, r: float, q: int, centres: bool = True) -> Polygonal:
     return _orient(_nudge(_polygonal(F), S, into=False))
 
 
-def grow(S, r: float, *, tolerance: float | None = None) -> Polygonal:
+def grow(S, r: float, *, tolerance: float | None = None, exact: bool = False) -> Polygonal | list:
     """Grow ``S`` by ``r``: ``S↑r``, the points at distance < r from S (dilation by an open disk).
 
     Parameters
@@ -331,6 +331,10 @@ def grow(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     tolerance : float, optional
         Largest distance between an arc of the exact result and the chord replacing it (default 1e-5·r).
         Chords lie inside the exact set, so the result is contained in ``S↑r``.
+    exact : bool, optional
+        Return the exact boundary of ``S↑r`` as a list of `Loop` (segments parallel to S's edges at
+        distance r, arcs of radius exactly r about its convex vertices; see `exact_morphology.exact_grow`).
+        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused.
 
     Returns
     -------
@@ -344,10 +348,14 @@ def grow(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     15.1416
     """
     S, r, q = _prepare(S, r, tolerance)
+    if exact:
+        from .exact_morphology import exact_grow
+
+        return exact_grow(_orient(S), r)
     return _orient(_grow(S, r, q))
 
 
-def shrink(S, r: float, *, tolerance: float | None = None) -> Polygonal:
+def shrink(S, r: float, *, tolerance: float | None = None, exact: bool = False) -> Polygonal | list:
     """Shrink ``S`` by ``r``: ``S↓r``, the points at distance ≥ r from ¬S (erosion); may be empty.
 
     Its convex vertices are the centres of the core's convex arcs (see `arc_centers`).
@@ -360,6 +368,11 @@ def shrink(S, r: float, *, tolerance: float | None = None) -> Polygonal:
         Radius, > 0.
     tolerance : float, optional
         Chord tolerance for the concave arcs that appear around reflex vertices (default 1e-5·r).
+    exact : bool, optional
+        Return the exact boundary of ``S↓r`` as a list of `Loop` (segments parallel to S's edges at
+        distance r, arcs of radius exactly r about its reflex vertices; zero-width parts left out; see
+        `exact_morphology.exact_shrink`): the tool-centre path of a pocket.
+        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused.
 
     Returns
     -------
@@ -375,10 +388,14 @@ def shrink(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     True
     """
     S, r, q = _prepare(S, r, tolerance)
+    if exact:
+        from .exact_morphology import exact_shrink
+
+        return exact_shrink(_orient(S), r)
     return _orient(_shrink(S, r, q))
 
 
-def core(S, r: float, *, tolerance: float | None = None) -> Polygonal:
+def core(S, r: float, *, tolerance: float | None = None, exact: bool = False) -> Polygonal | list:
     """The core ``R_r(S) = S↓r↑r``: the union of all disks of radius r inside S (opening).
 
     Exactly contained in S (the chord-approximated opening is intersected with S), and valid.
@@ -391,6 +408,10 @@ def core(S, r: float, *, tolerance: float | None = None) -> Polygonal:
         Radius, > 0.
     tolerance : float, optional
         Chord tolerance of the convex arcs of radius r (default 1e-5·r); the chords lie inside the disks.
+    exact : bool, optional
+        Return the exact boundary of the core as a list of `Loop` (S's surviving edges and arcs of
+        radius exactly r about the shrink's corners; see `exact_morphology.exact_core` for the derivation).
+        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused.
 
     Returns
     -------
@@ -406,10 +427,14 @@ def core(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     True
     """
     S, r, q = _prepare(S, r, tolerance)
+    if exact:
+        from .exact_morphology import exact_core
+
+        return exact_core(_orient(S), r)
     return _core(S, r, q)
 
 
-def fillet(S, r: float, *, tolerance: float | None = None) -> Polygonal:
+def fillet(S, r: float, *, tolerance: float | None = None, exact: bool = False) -> Polygonal | list:
     """The fillet ``F_r(S) = S↑r↓r``: the complement of all disks of radius r in ¬S (closing).
 
     Exactly contains S (the chord-approximated closing is united with S), and valid.
@@ -422,6 +447,10 @@ def fillet(S, r: float, *, tolerance: float | None = None) -> Polygonal:
         Radius, > 0.
     tolerance : float, optional
         Chord tolerance of the concave arcs of radius r (default 1e-5·r).
+    exact : bool, optional
+        Return the exact boundary of the fillet as a list of `Loop` (S's surviving edges and arcs of radius
+        exactly r, turning right; see `exact_morphology.exact_fillet`).
+        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused.
 
     Returns
     -------
@@ -436,6 +465,10 @@ def fillet(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     True
     """
     S, r, q = _prepare(S, r, tolerance)
+    if exact:
+        from .exact_morphology import exact_fillet
+
+        return exact_fillet(_orient(S), r)
     return _fillet(S, r, q)
 
 

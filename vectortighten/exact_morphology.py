@@ -1,0 +1,458 @@
+"""Exact boundaries of the shrink, grow, core and fillet, as loops of segments and arcs.
+
+`offsets.exact_offsets` gives the boundary of the closed shrink ``X = S↓r`` (side +1) and of the closed
+shrink of the complement ``X = (S^c)↓r`` (side −1) as loose pieces: segments parallel to S's edges and
+arcs of radius r about its vertices. This module chains those pieces into closed `Loop`s and derives the
+other three boundaries from them, in closed form.
+
+Derivation
+----------
+*Orientation.* Every piece of side +1 runs with ``S↓r`` on its left (an edge's parallel runs the way the
+edge does, an arc about a reflex vertex turns right). Every piece of side −1 runs with the grow ``S↑r``
+on its left; reversed, it runs with ``X = (S^c)↓r`` on its left. So in both cases the pieces, taken with
+X on their left, chain head to tail into the boundary of X. Where several pieces leave one point (the
+centre line of a part exactly 2r wide leaving the rest of X, a T of such lines), the chain takes the one
+that turns most to the right: it walks round the outside of X, into every zero-width part and back, so
+that the loop is the boundary of the *closed* set X, zero-width parts included. A piece that would run
+straight back is the last choice.
+
+*Shrink and grow.* ``∂(S↓r)`` is the chained loops of side +1; ``∂(S↑r)`` those of side −1 reversed
+(outer boundaries counter-clockwise, holes clockwise). A zero-width part has no area: the loops returned
+for the shrink and the grow leave out the loops that enclose none (a shrink that is only a centre line or
+a point comes back empty); the core and the fillet are built from all of them.
+
+*Core.* ``R_r(S) = X ⊕ D_r`` with ``X = S↓r`` (the union of the r-disks centred in X). Its boundary is
+the set of points at distance exactly r from X, that is the outward offset of ``∂X`` by r, which is
+formed piece by piece:
+
+* a segment of ``∂X`` (the parallel of an edge e at distance r) moves to the right by r onto e itself:
+  the part of e that survives in the core;
+* an arc of ``∂X`` of radius r about a reflex vertex v turns right (it is concave); moved outward by r
+  its radius becomes r − r = 0: it collapses to v, a reflex corner that survives in the core;
+* at a corner of X, where the incoming piece's tangent turns left by θ into the outgoing one, the
+  offset is the arc of radius r about the corner from the right normal of the incoming tangent to that
+  of the outgoing, sweeping θ counter-clockwise: the convex arcs of the core, centred at the corners of
+  the shrink (a turn of exactly π, at the end of a zero-width part, gives a half circle);
+* at a tangent join (a segment meeting an arc) nothing is added;
+* an isolated point of X (the centre of a square of side 2r) gives a whole circle of radius r.
+
+The pieces of ``∂X`` carry ``S``'s feet (every point of a kept piece is at distance exactly r from ∂S,
+with its nearest boundary point at its right normal), which is why the offset of each lies on ∂S or on
+the boundary of a disk inside S. ``∂X`` has no reflex corners (``(S^c)↑r`` is a union of open r-disks),
+so consecutive offsets never cross, except where two parts of X touch at a single point: that pinch is
+reported as an error rather than answered wrongly.
+
+*Fillet.* ``F_r(S)`` is the complement of ``R_r(S^c)`` (the closing is the dual of the opening), so its
+loops are the core construction applied to the loops of ``X = (S^c)↓r``, reversed.
+
+Every piece comes from one closed-form offset, so a loop's pieces meet to the precision of the offsets
+(`offsets.precision_of`), far inside `Loop`'s closing tolerance, and no buffer is sampled anywhere.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.spatial import cKDTree
+from shapely.geometry import MultiPolygon, Polygon
+
+from .curves import Loop
+from .offsets import OffsetPieces, exact_offsets
+
+__all__ = ["ExactBoundary", "exact_core", "exact_fillet", "exact_grow", "exact_shrink", "offset_loops"]
+
+_TWO_PI = 2.0 * math.pi
+#: A turn (radians) below this between two chained pieces is a tangent join, not a corner.
+_JOIN_ANGLE = 1e-12
+#: A turn within this of ±π is a piece running straight back (taken as +π: the end of a zero-width part).
+_BACK_ANGLE = 1e-9
+#: Chained pieces meet within this many offset precisions.
+_NODE_PRECISIONS = 64.0
+
+
+class _Pieces:
+    """Pieces of one offset as arrays, each with X on its left: kind, data rows as `Loop` holds them,
+    start and end points, start and end tangents, signed curvature."""
+
+    def __init__(self, E: OffsetPieces, reverse: bool):
+        ns, na = len(E.seg), len(E.arc_center)
+        seg = E.seg[:, ::-1] if reverse else E.seg
+        a0 = E.arc_start + (E.arc_sweep if reverse else 0.0)
+        sw = -E.arc_sweep if reverse else E.arc_sweep
+        radius = np.full(na, E.r)
+        self.arc = np.r_[np.zeros(ns, bool), np.ones(na, bool)]
+        self.data = np.concatenate([np.column_stack([seg[:, 0], seg[:, 1], np.zeros(ns)]),
+                                    np.column_stack([E.arc_center, radius, a0, sw])]).reshape(-1, 5)
+        a1 = a0 + sw
+        arc_p0 = E.arc_center + radius[:, None] * np.column_stack([np.cos(a0), np.sin(a0)])
+        arc_p1 = E.arc_center + radius[:, None] * np.column_stack([np.cos(a1), np.sin(a1)])
+        self.start = np.concatenate([seg[:, 0], arc_p0]).reshape(-1, 2)
+        self.end = np.concatenate([seg[:, 1], arc_p1]).reshape(-1, 2)
+        d = seg[:, 1] - seg[:, 0]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            u = d / np.hypot(d[:, 0], d[:, 1])[:, None]
+        sgn = np.where(sw >= 0, 1.0, -1.0)
+        self.t0 = np.concatenate([u, np.column_stack([-sgn * np.sin(a0), sgn * np.cos(a0)])]).reshape(-1, 2)
+        self.t1 = np.concatenate([u, np.column_stack([-sgn * np.sin(a1), sgn * np.cos(a1)])]).reshape(-1, 2)
+        self.kappa = np.r_[np.zeros(ns), sgn / E.r]
+
+    def __len__(self) -> int:
+        return len(self.arc)
+
+
+def _turn(t_in: np.ndarray, t_out: np.ndarray) -> np.ndarray:
+    """Signed turn from tangent ``t_in`` to ``t_out`` in (−π, π]; a reversal counts as +π."""
+    tau = np.arctan2(t_in[..., 0] * t_out[..., 1] - t_in[..., 1] * t_out[..., 0], (t_in * t_out).sum(axis=-1))
+    return np.where(np.abs(tau) > math.pi - _BACK_ANGLE, math.pi, tau)
+
+
+def _chain(P: _Pieces, tol: float) -> list[list[int]]:
+    """The pieces chained head to tail into cycles (lists of piece indices), turning rightmost at forks."""
+    n = len(P)
+    if n == 0:
+        return []
+    cand = cKDTree(P.start).query_ball_point(P.end, tol)
+    used = np.zeros(n, dtype=bool)
+    cycles = []
+    for first in range(n):
+        if used[first]:
+            continue
+        used[first] = True
+        cycle, cur = [first], first
+        while True:
+            cs = [j for j in cand[cur] if not used[j] or j == first]
+            if not cs:
+                x, y = P.end[cur]
+                raise RuntimeError(f"exact offsets do not close: a piece ends at ({x:.17g}, {y:.17g}) where "
+                                   "no piece starts")
+            if len(cs) > 1:
+                cs_a = np.array(cs)
+                tau = _turn(P.t1[cur][None, :], P.t0[cs_a])
+                best = tau.min()
+                near = cs_a[tau <= best + _BACK_ANGLE]
+                j = int(near[np.argmin(P.kappa[near])]) if len(near) > 1 else int(near[0])
+            else:
+                j = cs[0]
+            if j == first:
+                cycles.append(cycle)
+                break
+            used[j] = True
+            cycle.append(j)
+            cur = j
+    return cycles
+
+
+def _isolated(E: OffsetPieces, P: _Pieces, tol: float) -> np.ndarray:
+    """The corners of E that are on no piece: isolated points of the shrink."""
+    if len(E.corners) == 0:
+        return np.zeros((0, 2))
+    if len(P) == 0:
+        return E.corners
+    d, _ = cKDTree(np.concatenate([P.start, P.end])).query(E.corners)
+    return E.corners[d > tol]
+
+
+def _loop(P: _Pieces, cycle: list[int]) -> Loop:
+    idx = np.asarray(cycle)
+    return Loop._from_arrays(P.arc[idx], P.data[idx], atol=None)
+
+
+def _enclosing(loops: list[Loop], eps: float) -> list[Loop]:
+    """The loops that enclose some area (not a zero-width part run out and back)."""
+    return [lp for lp in loops if abs(lp.area) > 16.0 * eps * max(lp.length, eps)]
+
+
+def _reversed(loop: Loop) -> Loop:
+    return Loop([p.reversed() for p in reversed(loop.pieces)], atol=math.inf)
+
+
+def _opened(P: _Pieces, cycle: list[int], r: float) -> Loop:
+    """The outward offset by r of one chained loop of ``∂X`` (X on its left): a loop of ``∂(X ⊕ D)``."""
+    idx = np.asarray(cycle)
+    nxt = np.roll(idx, -1)
+    tau = _turn(P.t1[idx], P.t0[nxt])
+    rows, kinds = [], []
+    for k, i in enumerate(idx.tolist()):
+        row = P.data[i]
+        if P.arc[i]:
+            rho = row[2] + math.copysign(r, row[4])
+            if rho > 1e-9 * r:                          # an arc of S's (item 2): radius ρ ± r
+                rows.append((row[0], row[1], rho, row[3], row[4]))
+                kinds.append(True)
+            # else: a concave arc of radius r collapses onto its centre (a reflex vertex of S)
+        else:
+            tx, ty = P.t0[i]
+            rows.append((row[0] + r * ty, row[1] - r * tx, row[2] + r * ty, row[3] - r * tx, 0.0))
+            kinds.append(False)
+        t = tau[k]
+        if t > _JOIN_ANGLE:
+            tx, ty = P.t1[i]
+            cx, cy = P.end[i]
+            rows.append((cx, cy, r, math.atan2(-tx, ty), float(t)))
+            kinds.append(True)
+        elif t < -1e-6:
+            x, y = P.end[i]
+            raise RuntimeError(f"the shrink turns right by {-t:.3g} rad at ({x:.17g}, {y:.17g}): two parts "
+                               "of it touch at a point there, which the exact core does not handle yet")
+    return Loop._from_arrays(np.array(kinds, bool), np.array(rows, float).reshape(-1, 5), atol=None)
+
+
+def _side_loops(S, r: float, side: int):
+    E = exact_offsets(S, r, side)
+    P = _Pieces(E, reverse=side < 0)
+    tol = _NODE_PRECISIONS * E.precision
+    return E, P, _chain(P, tol), _isolated(E, P, tol)
+
+
+def offset_loops(E: OffsetPieces) -> list[Loop]:
+    """The pieces of an `OffsetPieces` chained into closed loops, with the shrunk set on their left.
+
+    Parameters
+    ----------
+    E : OffsetPieces
+        From `offsets.exact_offsets` (side +1: the loops bound ``S↓r``; side −1: ``(S^c)↓r``, so the
+        outer boundary of a bounded S's grow comes out clockwise).
+
+    Returns
+    -------
+    list of Loop
+        Every loop, zero-width ones (a centre line run out and back) included.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> from vectortighten.offsets import exact_offsets
+    >>> [round(lp.area, 12) for lp in offset_loops(exact_offsets(box(0, 0, 4, 3), 1.0))]
+    [2.0]
+    """
+    P = _Pieces(E, reverse=E.side < 0)
+    return [_loop(P, c) for c in _chain(P, _NODE_PRECISIONS * E.precision)]
+
+
+def exact_shrink(S, r: float) -> list[Loop]:
+    """The exact boundary of the shrink ``S↓r`` (points at distance ≥ r from ``S^c``), as loops.
+
+    Parameters
+    ----------
+    S : shapely Polygon or MultiPolygon
+        Valid, oriented (exteriors counter-clockwise), in any units.
+    r : float
+        Radius, > 0, in S's units.
+
+    Returns
+    -------
+    list of Loop
+        Outer boundaries counter-clockwise, holes clockwise: segments parallel to S's edges at distance r
+        and arcs of radius r about its reflex vertices. Zero-width parts and isolated points are left out
+        (they enclose no area); empty when the shrink is.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> [lp.area for lp in exact_shrink(box(0, 0, 4, 3), 1.0)]
+    [2.0]
+    """
+    E, P, cycles, _ = _side_loops(S, r, 1)
+    return _enclosing([_loop(P, c) for c in cycles], E.precision)
+
+
+def exact_grow(S, r: float) -> list[Loop]:
+    """The exact boundary of the grow ``S↑r`` (points at distance < r from S), as loops.
+
+    Parameters
+    ----------
+    S : shapely Polygon or MultiPolygon
+        Valid, oriented, in any units.
+    r : float
+        Radius, > 0.
+
+    Returns
+    -------
+    list of Loop
+        Outer boundaries counter-clockwise, holes clockwise: segments parallel to S's edges at distance r
+        and arcs of radius r about its convex vertices. A hole of S exactly 2r wide is closed by the open
+        grow except for its centre line, which encloses no area and is left out.
+
+    Examples
+    --------
+    >>> import math
+    >>> from shapely.geometry import box
+    >>> [abs(lp.area - (16 + 16 + math.pi)) < 1e-12 for lp in exact_grow(box(0, 0, 4, 4), 1.0)]
+    [True]
+    """
+    E, P, cycles, _ = _side_loops(S, r, -1)
+    return [_reversed(lp) for lp in _enclosing([_loop(P, c) for c in cycles], E.precision)]
+
+
+def exact_core(S, r: float) -> list[Loop]:
+    """The exact boundary of the core ``R_r(S) = S↓r↑r`` (union of the r-disks inside S), as loops.
+
+    Built from the shrink's loops in closed form (see the module's derivation): S's surviving edges, its
+    surviving reflex corners, and arcs of radius r about the shrink's corners.
+
+    Parameters
+    ----------
+    S : shapely Polygon or MultiPolygon
+        Valid, oriented, in any units.
+    r : float
+        Radius, > 0.
+
+    Returns
+    -------
+    list of Loop
+        Outer boundaries counter-clockwise, holes clockwise; every arc of radius exactly r, turning left.
+
+    Raises
+    ------
+    RuntimeError
+        Where two parts of the shrink touch at a single point (not handled yet).
+
+    Examples
+    --------
+    A 4 × 4 square at r = 1: four sides and four quarter circles, area 16 − (4 − π).
+
+    >>> import math
+    >>> from shapely.geometry import box
+    >>> [L] = exact_core(box(0, 0, 4, 4), 1.0)
+    >>> round(L.area - (12 + math.pi), 12), sorted(set(L.radii.tolist()))
+    (0.0, [1.0])
+    """
+    E, P, cycles, lone = _side_loops(S, r, 1)
+    return [_opened(P, c, r) for c in cycles] + [Loop.circle(c, r) for c in lone]
+
+
+def exact_fillet(S, r: float) -> list[Loop]:
+    """The exact boundary of the fillet ``F_r(S) = S↑r↓r`` (outside every r-disk in ``S^c``), as loops.
+
+    The dual of `exact_core`: the core construction on the loops of ``(S^c)↓r``, reversed.
+
+    Parameters
+    ----------
+    S : shapely Polygon or MultiPolygon
+        Valid, oriented, in any units.
+    r : float
+        Radius, > 0.
+
+    Returns
+    -------
+    list of Loop
+        Outer boundaries counter-clockwise, holes clockwise; every arc of radius exactly r, turning right.
+
+    Examples
+    --------
+    An L-shape at r = 1 gains (1 − π/4) at its reflex corner.
+
+    >>> import math
+    >>> from shapely.geometry import Polygon
+    >>> L = Polygon([(0, 0), (10, 0), (10, 3), (3, 3), (3, 10), (0, 10)])
+    >>> round(sum(lp.area for lp in exact_fillet(L, 1.0)) - (L.area + 1 - math.pi / 4), 12)
+    0.0
+    """
+    E, P, cycles, lone = _side_loops(S, r, -1)
+    return [_reversed(_opened(P, c, r)) for c in cycles] + [Loop.circle(c, r, ccw=False) for c in lone]
+
+
+@dataclass
+class ExactBoundary:
+    """Exact loops of a morphological operation, in the shape the writers take (like a `Tightening`).
+
+    Attributes
+    ----------
+    loops : list of Loop
+        The exact boundary (outer counter-clockwise, holes clockwise).
+    r : float
+        The radius.
+    init : str
+        The operation (``"shrink"``, ``"grow"``, ``"core"`` or ``"fillet"``); the writers print it where
+        they print a tightening's initial condition.
+    tolerance : float
+        Chord tolerance of `geometry` (and of the ``core``/``mortar`` layers).
+    shape : Polygon or MultiPolygon
+        The input.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> B = ExactBoundary.of(box(0, 0, 4, 3), 1.0, "shrink")
+    >>> B.area, B.n_components, B.geometry.bounds
+    (2.0, 1, (1.0, 1.0, 3.0, 2.0))
+    """
+
+    loops: list
+    r: float
+    init: str
+    tolerance: float
+    shape: Polygon | MultiPolygon
+    _cache: dict = field(default_factory=dict, repr=False)
+
+    _OPS = {"shrink": exact_shrink, "grow": exact_grow, "core": exact_core, "fillet": exact_fillet}
+
+    @classmethod
+    def of(cls, S, r: float, operation: str, *, tolerance: float | None = None) -> ExactBoundary:
+        """The exact boundary of ``operation`` (shrink, grow, core or fillet) of S at radius r."""
+        from . import morphology as _m
+        from ._validation import check_tolerance
+
+        if operation not in cls._OPS:
+            raise ValueError(f"operation must be one of {', '.join(cls._OPS)}, got {operation!r}")
+        S, r, _ = _m._prepare(S, r, tolerance)
+        S = _m._orient(S)
+        return cls(cls._OPS[operation](S, r), r, operation, check_tolerance(tolerance, r), S)
+
+    @property
+    def geometry(self) -> Polygon | MultiPolygon:
+        """The loops sampled within `tolerance`, as valid shapely geometry."""
+        if "geometry" not in self._cache:
+            from .engine import _assemble
+
+            self._cache["geometry"] = _assemble(self.loops, self.tolerance)
+        return self._cache["geometry"]
+
+    @property
+    def perimeter(self) -> float:
+        """Exact total length of the loops."""
+        return math.fsum(lp.length for lp in self.loops)
+
+    @property
+    def area(self) -> float:
+        """Exact area (Green's theorem over the loops; holes count negative)."""
+        return math.fsum(lp.area for lp in self.loops)
+
+    @property
+    def n_components(self) -> int:
+        """Number of counter-clockwise loops."""
+        return sum(1 for lp in self.loops if lp.area > 0)
+
+    @property
+    def n_holes(self) -> int:
+        """Number of clockwise loops."""
+        return sum(1 for lp in self.loops if lp.area < 0)
+
+    @property
+    def is_empty(self) -> bool:
+        """True when there is no loop."""
+        return not self.loops
+
+    def _morph(self, name):
+        if name not in self._cache:
+            from . import morphology as _m
+
+            self._cache[name] = getattr(_m, name)(self.shape, self.r, tolerance=self.tolerance)
+        return self._cache[name]
+
+    @property
+    def core(self):
+        """The core of the input (shapely), for the writers' ``core`` layer."""
+        return self._morph("core")
+
+    @property
+    def fillet(self):
+        """The fillet of the input (shapely)."""
+        return self._morph("fillet")
+
+    @property
+    def mortar(self):
+        """The mortar of the input (shapely), for the writers' ``mortar`` layer."""
+        return self._morph("mortar")
