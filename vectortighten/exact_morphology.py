@@ -52,14 +52,15 @@ Every piece comes from one closed-form offset, so a loop's pieces meet to the pr
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
+import shapely
 from scipy.spatial import cKDTree
 from shapely.geometry import MultiPolygon, Polygon
 
 from .curves import Loop
-from .offsets import OffsetPieces, exact_offsets
+from .offsets import OffsetPieces, exact_offsets, precision_of
 
 __all__ = ["ExactBoundary", "exact_core", "exact_fillet", "exact_grow", "exact_shrink", "offset_loops"]
 
@@ -70,6 +71,8 @@ _JOIN_ANGLE = 1e-12
 _BACK_ANGLE = 1e-9
 #: Chained pieces meet within this many offset precisions.
 _NODE_PRECISIONS = 64.0
+#: A piece shorter than this fraction of r with a loose end is a crumb of a near-tangent cut (`_pruned`).
+_SLIVER_R = 1e-6
 
 
 class _Pieces:
@@ -102,20 +105,26 @@ class _Pieces:
         return len(self.arc)
 
 
-def _turn(t_in: np.ndarray, t_out: np.ndarray) -> np.ndarray:
-    """Signed turn from tangent ``t_in`` to ``t_out`` in (−π, π]; a reversal counts as +π."""
+def _turn(t_in: np.ndarray, t_out: np.ndarray, back: float = math.pi) -> np.ndarray:
+    """Signed turn from tangent ``t_in`` to ``t_out`` in (−π, π]; a reversal counts as ``back``."""
     tau = np.arctan2(t_in[..., 0] * t_out[..., 1] - t_in[..., 1] * t_out[..., 0], (t_in * t_out).sum(axis=-1))
-    return np.where(np.abs(tau) > math.pi - _BACK_ANGLE, math.pi, tau)
+    return np.where(np.abs(tau) > math.pi - _BACK_ANGLE, back, tau)
 
 
-def _chain(P: _Pieces, tol: float) -> list[list[int]]:
-    """The pieces chained head to tail into cycles (lists of piece indices), turning rightmost at forks."""
+def _chain(P: _Pieces, tol: float, rightmost: bool = True) -> list[list[int]]:
+    """The pieces chained head to tail into cycles (lists of piece indices).
+
+    Where several pieces leave one point, the one turning most to the right (``rightmost``: round the
+    outside of zero-width parts) or to the left (else: a set touching itself at a point is split there
+    into simple loops); a piece running straight back is the last choice either way.
+    """
     n = len(P)
     if n == 0:
         return []
     cand = cKDTree(P.start).query_ball_point(P.end, tol)
     used = np.zeros(n, dtype=bool)
     cycles = []
+    sign = 1.0 if rightmost else -1.0
     for first in range(n):
         if used[first]:
             continue
@@ -129,10 +138,9 @@ def _chain(P: _Pieces, tol: float) -> list[list[int]]:
                                    "no piece starts")
             if len(cs) > 1:
                 cs_a = np.array(cs)
-                tau = _turn(P.t1[cur][None, :], P.t0[cs_a])
-                best = tau.min()
-                near = cs_a[tau <= best + _BACK_ANGLE]
-                j = int(near[np.argmin(P.kappa[near])]) if len(near) > 1 else int(near[0])
+                key = sign * _turn(P.t1[cur][None, :], P.t0[cs_a], back=sign * math.pi)
+                near = cs_a[key <= key.min() + _BACK_ANGLE]
+                j = int(near[np.argmin(sign * P.kappa[near])]) if len(near) > 1 else int(near[0])
             else:
                 j = cs[0]
             if j == first:
@@ -145,13 +153,11 @@ def _chain(P: _Pieces, tol: float) -> list[list[int]]:
 
 
 def _isolated(E: OffsetPieces, P: _Pieces, tol: float) -> np.ndarray:
-    """The corners of E that are on no piece: isolated points of the shrink."""
-    if len(E.corners) == 0:
-        return np.zeros((0, 2))
-    if len(P) == 0:
+    """The corners of E that lie on no piece: isolated points of the shrink."""
+    if len(E.corners) == 0 or len(P) == 0:
         return E.corners
-    d, _ = cKDTree(np.concatenate([P.start, P.end])).query(E.corners)
-    return E.corners[d > tol]
+    near = _Clearance(P, np.zeros((0, 2)), None, 0.0).nearer(E.corners, tol)
+    return E.corners[~near]
 
 
 def _loop(P: _Pieces, cycle: list[int]) -> Loop:
@@ -168,41 +174,250 @@ def _reversed(loop: Loop) -> Loop:
     return Loop([p.reversed() for p in reversed(loop.pieces)], atol=math.inf)
 
 
-def _opened(P: _Pieces, cycle: list[int], r: float) -> Loop:
-    """The outward offset by r of one chained loop of ``∂X`` (X on its left): a loop of ``∂(X ⊕ D)``."""
+def _offset_rows(P: _Pieces, cycle: list[int], r: float):
+    """The outward offset by r of one chained loop of ``∂X`` (X on its left), piece by piece.
+
+    Returns ``(rows, is_arc, is_corner)``: rows as `Loop` holds them; ``is_corner`` marks the arcs about
+    corners of X (the only pieces that other parts of ``X ⊕ D`` can cover). At a right turn (two parts of
+    X touching at a point) the arc about the point runs backwards there; the clipping removes what of it
+    is covered.
+    """
     idx = np.asarray(cycle)
     nxt = np.roll(idx, -1)
     tau = _turn(P.t1[idx], P.t0[nxt])
-    rows, kinds = [], []
+    rows, kinds, corner = [], [], []
     for k, i in enumerate(idx.tolist()):
         row = P.data[i]
         if P.arc[i]:
             rho = row[2] + math.copysign(r, row[4])
-            if rho > 1e-9 * r:                          # an arc of S's (item 2): radius ρ ± r
+            if rho > 1e-9 * r:                          # an arc of S's own: radius ρ ± r, about its centre
                 rows.append((row[0], row[1], rho, row[3], row[4]))
                 kinds.append(True)
+                corner.append(False)
             # else: a concave arc of radius r collapses onto its centre (a reflex vertex of S)
         else:
             tx, ty = P.t0[i]
             rows.append((row[0] + r * ty, row[1] - r * tx, row[2] + r * ty, row[3] - r * tx, 0.0))
             kinds.append(False)
-        t = tau[k]
-        if t > _JOIN_ANGLE:
+            corner.append(False)
+        t = float(tau[k])
+        if abs(t) > _JOIN_ANGLE:
             tx, ty = P.t1[i]
             cx, cy = P.end[i]
-            rows.append((cx, cy, r, math.atan2(-tx, ty), float(t)))
+            rows.append((cx, cy, r, math.atan2(-tx, ty), t))
             kinds.append(True)
-        elif t < -1e-6:
-            x, y = P.end[i]
-            raise RuntimeError(f"the shrink turns right by {-t:.3g} rad at ({x:.17g}, {y:.17g}): two parts "
-                               "of it touch at a point there, which the exact core does not handle yet")
-    return Loop._from_arrays(np.array(kinds, bool), np.array(rows, float).reshape(-1, 5), atol=None)
+            corner.append(True)
+    return rows, kinds, corner
+
+
+class _Clearance:
+    """Exact distance from points to X, given the pieces of ``∂X`` and its isolated points."""
+
+    _SAMPLES = 17
+
+    def __init__(self, P: _Pieces, lone: np.ndarray, inside, eps: float):
+        self.P, self.lone, self.inside, self.eps = P, lone, inside, eps
+        m = self._SAMPLES
+        t = np.linspace(0.0, 1.0, m)
+        d = P.data
+        th = d[:, 3][:, None] + d[:, 4][:, None] * t[None, :]
+        arc_xy = d[:, None, :2] + d[:, 2, None, None] * np.stack([np.cos(th), np.sin(th)], axis=-1)
+        seg_xy = d[:, None, 0:2] + t[None, :, None] * (d[:, None, 2:4] - d[:, None, 0:2])
+        xy = np.where(P.arc[:, None, None], arc_xy, seg_xy)
+        self.sag = float((d[P.arc, 2] * (1 - np.cos(0.5 * np.abs(d[P.arc, 4]) / (m - 1)))).max(initial=0.0))
+        self.tree = shapely.STRtree(shapely.linestrings(xy)) if len(P) else None
+        self.kd = cKDTree(lone) if len(lone) else None
+
+    def covered(self, xy: np.ndarray, r: float) -> np.ndarray:
+        """Whether each point is nearer than r to X (closed rule: by more than the precision)."""
+        return self.nearer(xy, r - self.eps, r)
+
+    def nearer(self, xy: np.ndarray, lim: float, reach: float | None = None) -> np.ndarray:
+        """Whether each point is nearer than ``lim`` to X (``reach``: the farthest a piece can matter)."""
+        out = np.zeros(len(xy), dtype=bool)
+        if len(xy) == 0:
+            return out
+        r = lim if reach is None else reach
+        if self.kd is not None:
+            dl, _ = self.kd.query(xy)
+            out |= dl < lim
+        if self.tree is not None:
+            pi, pj = self.tree.query(shapely.points(xy), predicate="dwithin", distance=r + self.sag)
+            if len(pi):
+                dist = _piece_distance(self.P, pj, xy[pi])
+                hit = pi[dist < lim]
+                out[hit] = True
+        if self.inside is not None and not self.inside.is_empty:
+            rest = np.flatnonzero(~out)
+            out[rest] = shapely.contains_xy(self.inside, xy[rest, 0], xy[rest, 1])
+        return out
+
+
+def _piece_distance(P: _Pieces, j: np.ndarray, xy: np.ndarray) -> np.ndarray:
+    """Exact distance from points ``xy[k]`` to pieces ``j[k]``."""
+    d = P.data[j]
+    out = np.empty(len(j))
+    a = P.arc[j]
+    s = ~a
+    if s.any():
+        p, q = d[s, 0:2], d[s, 2:4]
+        v = q - p
+        L2 = (v * v).sum(axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            u = np.clip(((xy[s] - p) * v).sum(axis=1) / L2, 0.0, 1.0)
+        f = p + np.where(L2 > 0, u, 0.0)[:, None] * v
+        out[s] = np.hypot(*(xy[s] - f).T)
+    if a.any():
+        c, rho, a0, sw = d[a, 0:2], d[a, 2], d[a, 3], d[a, 4]
+        w = xy[a] - c
+        th = np.arctan2(w[:, 1], w[:, 0])
+        turn = np.where(sw > 0, (th - a0) % _TWO_PI, (a0 - th) % _TWO_PI)
+        on = turn <= np.abs(sw)
+        radial = np.abs(np.hypot(w[:, 0], w[:, 1]) - rho)
+        e0 = np.hypot(*(xy[a] - P.start[j[a]]).T)
+        e1 = np.hypot(*(xy[a] - P.end[j[a]]).T)
+        out[a] = np.where(on, radial, np.minimum(e0, e1))
+    return out
+
+
+class _Rows:
+    """Loose pieces given as `Loop` rows, with the arrays `_chain` reads."""
+
+    def __init__(self, arc, data):
+        self.arc = np.asarray(arc, dtype=bool)
+        self.data = np.asarray(data, dtype=float).reshape(-1, 5)
+        d = self.data
+        a0, a1 = d[:, 3], d[:, 3] + d[:, 4]
+        c0 = np.column_stack([np.cos(a0), np.sin(a0)])
+        c1 = np.column_stack([np.cos(a1), np.sin(a1)])
+        self.start = np.where(self.arc[:, None], d[:, :2] + d[:, 2:3] * c0, d[:, :2])
+        self.end = np.where(self.arc[:, None], d[:, :2] + d[:, 2:3] * c1, d[:, 2:4])
+        u = d[:, 2:4] - d[:, :2]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            u = u / np.hypot(u[:, 0], u[:, 1])[:, None]
+        sgn = np.where(d[:, 4] >= 0, 1.0, -1.0)[:, None]
+        self.t0 = np.where(self.arc[:, None], sgn * np.column_stack([-c0[:, 1], c0[:, 0]]), u)
+        self.t1 = np.where(self.arc[:, None], sgn * np.column_stack([-c1[:, 1], c1[:, 0]]), u)
+        self.kappa = np.where(self.arc, sgn[:, 0] / np.where(self.arc, d[:, 2], 1.0), 0.0)
+
+    def __len__(self) -> int:
+        return len(self.arc)
+
+
+def _opened(P: _Pieces, cycles: list[list[int]], lone: np.ndarray, r: float, eps: float, tol: float) -> list[Loop]:
+    """The loops of ``X ⊕ D_r`` from the chained loops of ``∂X`` (X on their left) and its isolated points.
+
+    Each loop's outward offset (`_offset_rows`) is exact but may overlap another's, or itself, where two
+    parts of X come within 2r of each other (a mouth narrower than 2r seen from both sides). Only the arcs
+    about X's corners can be covered (the offsets of X's pieces lie on ∂S, at distance r from X), and only
+    where they cross another corner's circle: each corner arc is cut at those crossings, and a part is
+    dropped when its middle is nearer than r to X (exact distance to X's pieces). What is left is chained
+    again, turning leftmost where the set touches itself.
+    """
+    rows, kinds, corner = [], [], []
+    for c in cycles:
+        a, b, k = _offset_rows(P, c, r)
+        rows += a
+        kinds += b
+        corner += k
+    for c in lone:
+        rows.append((c[0], c[1], r, 0.0, _TWO_PI))
+        kinds.append(True)
+        corner.append(True)
+    if not rows:
+        return []
+    data = np.array(rows, dtype=float).reshape(-1, 5)
+    arc = np.array(kinds, dtype=bool)
+    corner = np.array(corner, dtype=bool)
+    ci = np.flatnonzero(corner)
+    if len(ci) > 1:
+        centres = data[ci, :2]
+        kd = cKDTree(centres)
+        near = kd.query_ball_point(centres, 2.0 * r)
+        inside = _X_polygon(P, cycles, lone, eps)
+        clear = _Clearance(P, lone, inside, eps)
+        keep_rows = []
+        drop = np.zeros(len(data), dtype=bool)
+        for k, nb in zip(ci.tolist(), near):
+            c, a0, sw = data[k, :2], data[k, 3], data[k, 4]
+            others = centres[[j for j in nb if j != np.searchsorted(ci, k)]]
+            w = others - c
+            dist = np.hypot(w[:, 0], w[:, 1])
+            w, dist = w[dist > tol], dist[dist > tol]
+            if len(w) == 0:
+                continue
+            base = np.arctan2(w[:, 1], w[:, 0])
+            half = np.arccos(np.clip(0.5 * dist / r, -1.0, 1.0))
+            th = np.concatenate([base - half, base + half])
+            t = np.where(sw > 0, (th - a0) % _TWO_PI, (a0 - th) % _TWO_PI) / abs(sw)
+            t = np.unique(t[(t > 1e-12) & (t < 1 - 1e-12)])
+            b = np.r_[0.0, t, 1.0]
+            mid = 0.5 * (b[:-1] + b[1:])
+            ang = a0 + sw * mid
+            gone = clear.covered(c + r * np.column_stack([np.cos(ang), np.sin(ang)]), r)
+            if not gone.any():
+                continue
+            drop[k] = True
+            # Merge the kept runs of consecutive parts.
+            i = 0
+            while i < len(gone):
+                if gone[i]:
+                    i += 1
+                    continue
+                j = i
+                while j + 1 < len(gone) and not gone[j + 1]:
+                    j += 1
+                keep_rows.append((c[0], c[1], r, a0 + sw * b[i], sw * (b[j + 1] - b[i])))
+                i = j + 1
+        if drop.any() or keep_rows:
+            kept = np.flatnonzero(~drop)
+            data = np.concatenate([data[kept], np.array(keep_rows, dtype=float).reshape(-1, 5)])
+            arc = np.r_[arc[kept], np.ones(len(keep_rows), dtype=bool)]
+    R = _Rows(arc, data)
+    return [Loop._from_arrays(R.arc[np.asarray(c)], R.data[np.asarray(c)], atol=None)
+            for c in _chain(R, tol, rightmost=False)]
+
+
+def _X_polygon(P: _Pieces, cycles, lone, eps):
+    """X sampled (its arcs by chords), for the inside test of `_Clearance` where clearance is ≥ r."""
+    from .engine import _assemble
+
+    loops = _enclosing([_loop(P, c) for c in cycles], eps)
+    if not loops:
+        return None
+    x = np.concatenate([P.start, P.end])
+    size = float(np.ptp(x, axis=0).max()) if len(x) else 1.0
+    return _assemble(loops, 1e-9 * max(size, eps))
+
+
+def _pruned(E: OffsetPieces, tol: float) -> OffsetPieces:
+    """E without its dangling slivers: pieces shorter than `_SLIVER_R`·r with an end no other piece
+    meets (where two parts of S share a vertex, a near-tangent cut can leave such a crumb of an arc)."""
+    for _ in range(8):
+        P = _Pieces(E, reverse=False)
+        if len(P) == 0:
+            return E
+        tree_s, tree_e = cKDTree(P.start), cKDTree(P.end)
+        d_next, _ = tree_s.query(P.end, k=2)
+        d_prev, _ = tree_e.query(P.start, k=2)
+        own = np.hypot(*(P.end - P.start).T) <= tol          # a closed piece (a full circle) meets itself
+        nxt = np.where(own, d_next[:, 1], d_next[:, 0]) if len(P) > 1 else d_next[:, 0]
+        prv = np.where(own, d_prev[:, 1], d_prev[:, 0]) if len(P) > 1 else d_prev[:, 0]
+        length = np.where(P.arc, P.data[:, 2] * np.abs(P.data[:, 4]), np.hypot(*(P.end - P.start).T))
+        crumb = ((nxt > tol) | (prv > tol)) & (length <= _SLIVER_R * E.r)
+        if not crumb.any():
+            return E
+        ns = len(E.seg)
+        ks, ka = ~crumb[:ns], ~crumb[ns:]
+        E = replace(E, seg=E.seg[ks], seg_edge=E.seg_edge[ks], arc_center=E.arc_center[ka],
+                    arc_start=E.arc_start[ka], arc_sweep=E.arc_sweep[ka])
+    return E
 
 
 def _side_loops(S, r: float, side: int):
-    E = exact_offsets(S, r, side)
+    tol = _NODE_PRECISIONS * precision_of(S)
+    E = _pruned(exact_offsets(S, r, side), tol)
     P = _Pieces(E, reverse=side < 0)
-    tol = _NODE_PRECISIONS * E.precision
     return E, P, _chain(P, tol), _isolated(E, P, tol)
 
 
@@ -320,7 +535,7 @@ def exact_core(S, r: float) -> list[Loop]:
     (0.0, [1.0])
     """
     E, P, cycles, lone = _side_loops(S, r, 1)
-    return [_opened(P, c, r) for c in cycles] + [Loop.circle(c, r) for c in lone]
+    return _opened(P, cycles, lone, r, E.precision, _NODE_PRECISIONS * E.precision)
 
 
 def exact_fillet(S, r: float) -> list[Loop]:
@@ -351,7 +566,7 @@ def exact_fillet(S, r: float) -> list[Loop]:
     0.0
     """
     E, P, cycles, lone = _side_loops(S, r, -1)
-    return [_reversed(_opened(P, c, r)) for c in cycles] + [Loop.circle(c, r, ccw=False) for c in lone]
+    return [_reversed(lp) for lp in _opened(P, cycles, lone, r, E.precision, _NODE_PRECISIONS * E.precision)]
 
 
 @dataclass
