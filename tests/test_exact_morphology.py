@@ -278,3 +278,82 @@ def test_exact_boundary_measures():
     assert (B.n_components, B.n_holes, B.is_empty) == (1, 0, False)
     assert abs(B.geometry.area - B.area) < 1e-4
     assert isinstance(B.loops[0].pieces[1], Arc | Segment)
+
+
+# -- shapes bounded by segments and arcs (loops as input) ------------------------------------------------
+def square_loop(a, c=(0.0, 0.0)):
+    x, y = c
+    pts = [(x - a, y - a), (x + a, y - a), (x + a, y + a), (x - a, y + a)]
+    return Loop([Segment(pts[i], pts[(i + 1) % 4]) for i in range(4)])
+
+
+def slot_loop(length, half, c=(0.0, 0.0), ccw=True):
+    """A stadium: two segments and two half circles of radius ``half``."""
+    x, y = c
+    L = Loop([Segment((x, y - half), (x + length, y - half)), Arc((x + length, y), half, -math.pi / 2, math.pi),
+              Segment((x + length, y + half), (x, y + half)), Arc((x, y), half, math.pi / 2, math.pi)])
+    return L if ccw else Loop([p.reversed() for p in reversed(L.pieces)])
+
+
+@pytest.mark.parametrize("rho, r", [(4.0, 2.0), (2.5, 1.0), (1.0, 0.4)])
+def test_plate_with_a_circular_hole(rho, r):
+    plate = [square_loop(10.0), Loop.circle((0.5, -0.5), rho, ccw=False)]
+    X = m.shrink(plate, r, exact=True)
+    [hole] = [lp for lp in X if lp.area < 0]
+    [a] = hole.pieces                                  # one arc of radius ρ + r about the same centre
+    assert isinstance(a, Arc) and math.isclose(a.radius, rho + r, rel_tol=1e-15) and a.center == (0.5, -0.5)
+    assert math.isclose(abs(a.sweep), 2 * math.pi, rel_tol=1e-14)
+    for fn in (m.core, m.fillet):                      # the hole is r-regular (ρ > r): kept exactly
+        holes = [lp for lp in fn(plate, r, exact=True) if lp.area < 0]
+        [[a]] = [lp.pieces for lp in holes]
+        assert math.isclose(a.radius, rho, rel_tol=1e-14) and a.center == (0.5, -0.5)
+    [G] = [lp for lp in m.grow(plate, r, exact=True) if lp.area < 0]
+    assert math.isclose(G.pieces[0].radius, rho - r, rel_tol=1e-14)
+    [R] = [lp for lp in m.core(plate, r, exact=True) if lp.area > 0]
+    assert math.isclose(R.area, 400 - 4 * (1 - math.pi / 4) * r * r, rel_tol=1e-13)
+
+
+def test_a_disk_smaller_than_r_vanishes_and_a_larger_one_is_kept():
+    assert m.shrink([Loop.circle((3.0, 4.0), 2.0)], 3.0, exact=True) == []
+    assert m.core([Loop.circle((3.0, 4.0), 2.0)], 3.0, exact=True) == []
+    [R] = m.core([Loop.circle((3.0, 4.0), 5.0)], 3.0, exact=True)
+    assert [(p.radius, p.center) for p in R.pieces] == [(5.0, (3.0, 4.0))]
+    [G] = m.grow([Loop.circle((3.0, 4.0), 2.0)], 3.0, exact=True)
+    assert [p.radius for p in G.pieces] == [5.0]
+
+
+def test_slot_with_round_ends():
+    slot = slot_loop(10.0, 2.0)
+    [X] = m.shrink([slot], 1.5, exact=True)            # a thinner stadium: radius 0.5
+    assert sorted(set(X.radii.tolist())) == [0.5] and math.isclose(X.area, 10 + math.pi / 4, rel_tol=1e-13)
+    for fn in (m.core, m.fillet):                      # r-regular for r ≤ 2: unchanged
+        [L] = fn([slot], 1.5, exact=True)
+        assert math.isclose(L.area, slot.area, rel_tol=1e-13) and sorted(set(L.radii.tolist())) == [2.0]
+    assert m.core([slot], 2.5, exact=True) == []       # thinner than 2r: no disk fits
+
+
+def test_arc_input_distance_to_the_boundary():
+    S = [square_loop(10.0), slot_loop(6.0, 1.5, c=(-5.0, 4.0), ccw=False), Loop.circle((4.0, -4.0), 2.0, ccw=False)]
+    h = 1e-5                                           # the sampled boundary's chord error
+    poly = shapely.Polygon(S[0].sample(h), [lp.sample(h) for lp in S[1:]])
+    s_arcs = math.fsum(a.length for lp in S for a in lp.arcs)
+    for d in (0.5, 1.2, 2.0):
+        for fn in (m.shrink, m.grow):
+            loops = fn(S, d, exact=True)
+            check_loops(loops)
+            # Against the boundary sampled within h (distances off by at most h).
+            dist = shapely.distance(poly.boundary, shapely.points(samples(loops)))
+            assert np.abs(dist - d).max() <= h * (1 + 1e-6)
+        for fn in (m.core, m.fillet):
+            loops = fn(S, d, exact=True)
+            check_loops(loops)
+            flat = fn(poly, d, tolerance=h)
+            arcs = math.fsum(a.length for lp in loops for a in lp.arcs)
+            assert abs(total_area(loops) - flat.area) <= 2 * (arcs + s_arcs) * h
+
+
+def test_arc_input_is_checked():
+    with pytest.raises(TypeError, match="Loops"):
+        m.shrink([box(0, 0, 1, 1)], 1.0, exact=True)
+    with pytest.raises(ValueError):
+        m.core([Loop.circle((0, 0), 1.0)], 0.0, exact=True)

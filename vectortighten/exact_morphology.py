@@ -62,7 +62,7 @@ from shapely.geometry import MultiPolygon, Polygon
 from .curves import Loop
 from .offsets import OffsetPieces, exact_offsets, precision_of
 
-__all__ = ["ExactBoundary", "exact_core", "exact_fillet", "exact_grow", "exact_shrink", "offset_loops"]
+__all__ = ["ExactBoundary", "exact_boundary", "exact_core", "exact_fillet", "exact_grow", "exact_shrink", "offset_loops"]
 
 _TWO_PI = 2.0 * math.pi
 #: A turn (radians) below this between two chained pieces is a tangent join, not a corner.
@@ -414,11 +414,29 @@ def _pruned(E: OffsetPieces, tol: float) -> OffsetPieces:
     return E
 
 
+def _reversed_rows(arc: np.ndarray, data: np.ndarray) -> np.ndarray:
+    out = data.copy()
+    out[~arc] = data[~arc][:, [2, 3, 0, 1, 4]]
+    out[arc, 3] = data[arc, 3] + data[arc, 4]
+    out[arc, 4] = -data[arc, 4]
+    return out
+
+
 def _side_loops(S, r: float, side: int):
+    """The chained loops of ``S↓r`` (side +1) or ``(S^c)↓r`` (−1), that set on their left; S a shapely
+    (Multi)Polygon or a list of `Loop`s (then arcs of S are features, see `curved_offsets`).
+
+    Returns (precision, pieces, cycles, isolated points)."""
+    if isinstance(S, (list, tuple)):
+        from .curved_offsets import curved_offsets
+
+        arc, data, eps = curved_offsets(S, r, side)
+        P = _Rows(arc, data if side > 0 else _reversed_rows(arc, data))
+        return eps, P, _chain(P, _NODE_PRECISIONS * eps), np.zeros((0, 2))
     tol = _NODE_PRECISIONS * precision_of(S)
     E = _pruned(exact_offsets(S, r, side), tol)
     P = _Pieces(E, reverse=side < 0)
-    return E, P, _chain(P, tol), _isolated(E, P, tol)
+    return E.precision, P, _chain(P, tol), _isolated(E, P, tol)
 
 
 def offset_loops(E: OffsetPieces) -> list[Loop]:
@@ -469,8 +487,8 @@ def exact_shrink(S, r: float) -> list[Loop]:
     >>> [lp.area for lp in exact_shrink(box(0, 0, 4, 3), 1.0)]
     [2.0]
     """
-    E, P, cycles, _ = _side_loops(S, r, 1)
-    return _enclosing([_loop(P, c) for c in cycles], E.precision)
+    eps, P, cycles, _ = _side_loops(S, r, 1)
+    return _enclosing([_loop(P, c) for c in cycles], eps)
 
 
 def exact_grow(S, r: float) -> list[Loop]:
@@ -497,8 +515,8 @@ def exact_grow(S, r: float) -> list[Loop]:
     >>> [abs(lp.area - (16 + 16 + math.pi)) < 1e-12 for lp in exact_grow(box(0, 0, 4, 4), 1.0)]
     [True]
     """
-    E, P, cycles, _ = _side_loops(S, r, -1)
-    return [_reversed(lp) for lp in _enclosing([_loop(P, c) for c in cycles], E.precision)]
+    eps, P, cycles, _ = _side_loops(S, r, -1)
+    return [_reversed(lp) for lp in _enclosing([_loop(P, c) for c in cycles], eps)]
 
 
 def exact_core(S, r: float) -> list[Loop]:
@@ -534,8 +552,8 @@ def exact_core(S, r: float) -> list[Loop]:
     >>> round(L.area - (12 + math.pi), 12), sorted(set(L.radii.tolist()))
     (0.0, [1.0])
     """
-    E, P, cycles, lone = _side_loops(S, r, 1)
-    return _opened(P, cycles, lone, r, E.precision, _NODE_PRECISIONS * E.precision)
+    eps, P, cycles, lone = _side_loops(S, r, 1)
+    return _opened(P, cycles, lone, r, eps, _NODE_PRECISIONS * eps)
 
 
 def exact_fillet(S, r: float) -> list[Loop]:
@@ -565,8 +583,52 @@ def exact_fillet(S, r: float) -> list[Loop]:
     >>> round(sum(lp.area for lp in exact_fillet(L, 1.0)) - (L.area + 1 - math.pi / 4), 12)
     0.0
     """
-    E, P, cycles, lone = _side_loops(S, r, -1)
-    return [_reversed(lp) for lp in _opened(P, cycles, lone, r, E.precision, _NODE_PRECISIONS * E.precision)]
+    eps, P, cycles, lone = _side_loops(S, r, -1)
+    return [_reversed(lp) for lp in _opened(P, cycles, lone, r, eps, _NODE_PRECISIONS * eps)]
+
+
+def _checked(S, r):
+    """S as an oriented shapely shape or a list of `Loop`s, and r, checked (a one-line error if bad)."""
+    from . import morphology as _m
+    from ._validation import check_radius
+
+    if isinstance(S, (list, tuple)):
+        if not all(isinstance(lp, Loop) for lp in S):
+            kinds = sorted({type(lp).__name__ for lp in S if not isinstance(lp, Loop)})
+            raise TypeError(f"S as a list must hold Loops (outer counter-clockwise, holes clockwise), got "
+                            f"{', '.join(kinds)}")
+        return list(S), check_radius(r)
+    S, r, _ = _m._prepare(S, r, None)
+    return _m._orient(S), r
+
+
+def exact_boundary(S, r: float, operation: str) -> list[Loop]:
+    """The exact boundary of ``operation`` of S at radius r, S checked first.
+
+    Parameters
+    ----------
+    S : shapely Polygon or MultiPolygon, or list of Loop
+        The shape; as loops (outer counter-clockwise, holes clockwise) its arcs are features kept exactly
+        (`curved_offsets`).
+    r : float
+        Radius, > 0, in S's units.
+    operation : {"shrink", "grow", "core", "fillet"}
+
+    Returns
+    -------
+    list of Loop
+
+    Examples
+    --------
+    >>> from vectortighten.curves import Loop
+    >>> [lp.radii.tolist() for lp in exact_boundary([Loop.circle((0, 0), 5.0)], 2.0, "shrink")]
+    [[3.0]]
+    """
+    ops = {"shrink": exact_shrink, "grow": exact_grow, "core": exact_core, "fillet": exact_fillet}
+    if operation not in ops:
+        raise ValueError(f"operation must be one of {', '.join(ops)}, got {operation!r}")
+    S, r = _checked(S, r)
+    return ops[operation](S, r)
 
 
 @dataclass
@@ -585,7 +647,7 @@ class ExactBoundary:
     tolerance : float
         Chord tolerance of `geometry` (and of the ``core``/``mortar`` layers).
     shape : Polygon or MultiPolygon
-        The input.
+        The input (loops given as input are sampled within ``tolerance``).
 
     Examples
     --------
@@ -602,19 +664,18 @@ class ExactBoundary:
     shape: Polygon | MultiPolygon
     _cache: dict = field(default_factory=dict, repr=False)
 
-    _OPS = {"shrink": exact_shrink, "grow": exact_grow, "core": exact_core, "fillet": exact_fillet}
-
     @classmethod
     def of(cls, S, r: float, operation: str, *, tolerance: float | None = None) -> ExactBoundary:
         """The exact boundary of ``operation`` (shrink, grow, core or fillet) of S at radius r."""
-        from . import morphology as _m
         from ._validation import check_tolerance
 
-        if operation not in cls._OPS:
-            raise ValueError(f"operation must be one of {', '.join(cls._OPS)}, got {operation!r}")
-        S, r, _ = _m._prepare(S, r, tolerance)
-        S = _m._orient(S)
-        return cls(cls._OPS[operation](S, r), r, operation, check_tolerance(tolerance, r), S)
+        loops = exact_boundary(S, r, operation)
+        S, r = _checked(S, r)
+        if isinstance(S, list):
+            from .curved_offsets import _sampled
+
+            S = _sampled(S, check_tolerance(tolerance, r))
+        return cls(loops, r, operation, check_tolerance(tolerance, r), S)
 
     @property
     def geometry(self) -> Polygon | MultiPolygon:

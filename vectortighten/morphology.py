@@ -334,7 +334,8 @@ def grow(S, r: float, *, tolerance: float | None = None, exact: bool = False) ->
     exact : bool, optional
         Return the exact boundary of ``S↑r`` as a list of `Loop` (segments parallel to S's edges at
         distance r, arcs of radius exactly r about its convex vertices; see `exact_morphology.exact_grow`).
-        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused.
+        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused, and S may
+        also be a list of `Loop`s (its arcs then kept exactly as features).
 
     Returns
     -------
@@ -347,11 +348,11 @@ def grow(S, r: float, *, tolerance: float | None = None, exact: bool = False) ->
     >>> round(grow(box(0, 0, 2, 2), 1.0).area, 4)    # 4 + 8 + π
     15.1416
     """
-    S, r, q = _prepare(S, r, tolerance)
     if exact:
-        from .exact_morphology import exact_grow
+        from .exact_morphology import exact_boundary
 
-        return exact_grow(_orient(S), r)
+        return exact_boundary(S, r, "grow")
+    S, r, q = _prepare(S, r, tolerance)
     return _orient(_grow(S, r, q))
 
 
@@ -372,7 +373,8 @@ def shrink(S, r: float, *, tolerance: float | None = None, exact: bool = False) 
         Return the exact boundary of ``S↓r`` as a list of `Loop` (segments parallel to S's edges at
         distance r, arcs of radius exactly r about its reflex vertices; zero-width parts left out; see
         `exact_morphology.exact_shrink`): the tool-centre path of a pocket.
-        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused.
+        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused, and S may
+        also be a list of `Loop`s (its arcs then kept exactly as features).
 
     Returns
     -------
@@ -387,11 +389,11 @@ def shrink(S, r: float, *, tolerance: float | None = None, exact: bool = False) 
     >>> shrink(box(0, 0, 4, 3), 1.5).is_empty
     True
     """
-    S, r, q = _prepare(S, r, tolerance)
     if exact:
-        from .exact_morphology import exact_shrink
+        from .exact_morphology import exact_boundary
 
-        return exact_shrink(_orient(S), r)
+        return exact_boundary(S, r, "shrink")
+    S, r, q = _prepare(S, r, tolerance)
     return _orient(_shrink(S, r, q))
 
 
@@ -411,7 +413,8 @@ def core(S, r: float, *, tolerance: float | None = None, exact: bool = False) ->
     exact : bool, optional
         Return the exact boundary of the core as a list of `Loop` (S's surviving edges and arcs of
         radius exactly r about the shrink's corners; see `exact_morphology.exact_core` for the derivation).
-        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused.
+        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused, and S may
+        also be a list of `Loop`s (its arcs then kept exactly as features).
 
     Returns
     -------
@@ -426,11 +429,11 @@ def core(S, r: float, *, tolerance: float | None = None, exact: bool = False) ->
     >>> abs(R.area - (16 - (4 - pi))) < 1e-4          # a² − (4 − π)r²
     True
     """
-    S, r, q = _prepare(S, r, tolerance)
     if exact:
-        from .exact_morphology import exact_core
+        from .exact_morphology import exact_boundary
 
-        return exact_core(_orient(S), r)
+        return exact_boundary(S, r, "core")
+    S, r, q = _prepare(S, r, tolerance)
     return _core(S, r, q)
 
 
@@ -450,7 +453,8 @@ def fillet(S, r: float, *, tolerance: float | None = None, exact: bool = False) 
     exact : bool, optional
         Return the exact boundary of the fillet as a list of `Loop` (S's surviving edges and arcs of radius
         exactly r, turning right; see `exact_morphology.exact_fillet`).
-        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused.
+        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused, and S may
+        also be a list of `Loop`s (its arcs then kept exactly as features).
 
     Returns
     -------
@@ -464,11 +468,11 @@ def fillet(S, r: float, *, tolerance: float | None = None, exact: bool = False) 
     >>> abs(fillet(L, 1.0).area - (L.area + 1 - pi / 4)) < 1e-4   # (1 − π/4)r² at the reflex corner
     True
     """
-    S, r, q = _prepare(S, r, tolerance)
     if exact:
-        from .exact_morphology import exact_fillet
+        from .exact_morphology import exact_boundary
 
-        return exact_fillet(_orient(S), r)
+        return exact_boundary(S, r, "fillet")
+    S, r, q = _prepare(S, r, tolerance)
     return _fillet(S, r, q)
 
 
