@@ -322,7 +322,7 @@ def _fillet(S: Polygonal, r: float, q: int, centres: bool = True, exact=None) ->
     return _orient(_nudge(_polygonal(F), S, into=False))
 
 
-def grow(S, r: float, *, tolerance: float | None = None) -> Polygonal:
+def grow(S, r: float, *, tolerance: float | None = None, exact: bool = False) -> Polygonal | list:
     """Grow ``S`` by ``r``: ``S↑r``, the points at distance < r from S (dilation by an open disk).
 
     Parameters
@@ -334,6 +334,11 @@ def grow(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     tolerance : float, optional
         Largest distance between an arc of the exact result and the chord replacing it (default 1e-5·r).
         Chords lie inside the exact set, so the result is contained in ``S↑r``.
+    exact : bool, optional
+        Return the exact boundary of ``S↑r`` as a list of `Loop` (segments parallel to S's edges at
+        distance r, arcs of radius exactly r about its convex vertices; see `exact_morphology.exact_grow`).
+        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused, and S may
+        also be a list of `Loop`s (its arcs then kept exactly as features).
 
     Returns
     -------
@@ -346,11 +351,15 @@ def grow(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     >>> round(grow(box(0, 0, 2, 2), 1.0).area, 4)    # 4 + 8 + π
     15.1416
     """
+    if exact:
+        from .exact_morphology import exact_boundary
+
+        return exact_boundary(S, r, "grow")
     S, r, q = _prepare(S, r, tolerance)
     return _orient(_grow(S, r, q))
 
 
-def shrink(S, r: float, *, tolerance: float | None = None) -> Polygonal:
+def shrink(S, r: float, *, tolerance: float | None = None, exact: bool = False) -> Polygonal | list:
     """Shrink ``S`` by ``r``: ``S↓r``, the points at distance ≥ r from ¬S (erosion); may be empty.
 
     Its convex vertices are the centres of the core's convex arcs (see `arc_centers`).
@@ -363,6 +372,12 @@ def shrink(S, r: float, *, tolerance: float | None = None) -> Polygonal:
         Radius, > 0.
     tolerance : float, optional
         Chord tolerance for the concave arcs that appear around reflex vertices (default 1e-5·r).
+    exact : bool, optional
+        Return the exact boundary of ``S↓r`` as a list of `Loop` (segments parallel to S's edges at
+        distance r, arcs of radius exactly r about its reflex vertices; zero-width parts left out; see
+        `exact_morphology.exact_shrink`): the tool-centre path of a pocket.
+        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused, and S may
+        also be a list of `Loop`s (its arcs then kept exactly as features).
 
     Returns
     -------
@@ -377,11 +392,15 @@ def shrink(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     >>> shrink(box(0, 0, 4, 3), 1.5).is_empty
     True
     """
+    if exact:
+        from .exact_morphology import exact_boundary
+
+        return exact_boundary(S, r, "shrink")
     S, r, q = _prepare(S, r, tolerance)
     return _orient(_shrink(S, r, q))
 
 
-def core(S, r: float, *, tolerance: float | None = None) -> Polygonal:
+def core(S, r: float, *, tolerance: float | None = None, exact: bool = False) -> Polygonal | list:
     """The core ``R_r(S) = S↓r↑r``: the union of all disks of radius r inside S (opening).
 
     Exactly contained in S (the chord-approximated opening is intersected with S), and valid.
@@ -394,6 +413,11 @@ def core(S, r: float, *, tolerance: float | None = None) -> Polygonal:
         Radius, > 0.
     tolerance : float, optional
         Chord tolerance of the convex arcs of radius r (default 1e-5·r); the chords lie inside the disks.
+    exact : bool, optional
+        Return the exact boundary of the core as a list of `Loop` (S's surviving edges and arcs of
+        radius exactly r about the shrink's corners; see `exact_morphology.exact_core` for the derivation).
+        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused, and S may
+        also be a list of `Loop`s (its arcs then kept exactly as features).
 
     Returns
     -------
@@ -408,11 +432,15 @@ def core(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     >>> abs(R.area - (16 - (4 - pi))) < 1e-4          # a² − (4 − π)r²
     True
     """
+    if exact:
+        from .exact_morphology import exact_boundary
+
+        return exact_boundary(S, r, "core")
     S, r, q = _prepare(S, r, tolerance)
     return _core(S, r, q)
 
 
-def fillet(S, r: float, *, tolerance: float | None = None) -> Polygonal:
+def fillet(S, r: float, *, tolerance: float | None = None, exact: bool = False) -> Polygonal | list:
     """The fillet ``F_r(S) = S↑r↓r``: the complement of all disks of radius r in ¬S (closing).
 
     Exactly contains S (the chord-approximated closing is united with S), and valid.
@@ -425,6 +453,11 @@ def fillet(S, r: float, *, tolerance: float | None = None) -> Polygonal:
         Radius, > 0.
     tolerance : float, optional
         Chord tolerance of the concave arcs of radius r (default 1e-5·r).
+    exact : bool, optional
+        Return the exact boundary of the fillet as a list of `Loop` (S's surviving edges and arcs of radius
+        exactly r, turning right; see `exact_morphology.exact_fillet`).
+        Outer boundaries counter-clockwise, holes clockwise; ``tolerance`` is then unused, and S may
+        also be a list of `Loop`s (its arcs then kept exactly as features).
 
     Returns
     -------
@@ -438,6 +471,10 @@ def fillet(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     >>> abs(fillet(L, 1.0).area - (L.area + 1 - pi / 4)) < 1e-4   # (1 − π/4)r² at the reflex corner
     True
     """
+    if exact:
+        from .exact_morphology import exact_boundary
+
+        return exact_boundary(S, r, "fillet")
     S, r, q = _prepare(S, r, tolerance)
     return _fillet(S, r, q)
 
