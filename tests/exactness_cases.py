@@ -105,6 +105,16 @@ def _tie_cases() -> list[Case]:
                 out.append(Case(f"slot 2r(1{eps:+g}) {tag}", mk, r, outside=(deep,), kind="slot"))
             else:
                 out.append(Case(f"slot 2r(1{eps:+g}) {tag}", mk, r, inside=(deep,), kind="slot"))
+        for against in ("corner", "wall", "bar"):
+            for eps in (1e-10, 1e-6, 1e-2, 0.0, -1e-10, -1e-6, -1e-2):
+                r = 1.0
+                if not _resolvable(eps, r, off):
+                    continue
+                mk = (lambda r=r, eps=eps, angle=angle, off=off, against=against:
+                      sd.corner_gap(r, eps, against, angle, off))
+                centre = _rot((0.0, 0.0), angle, off)       # anticore for every eps (see sd.corner_gap)
+                out.append(Case(f"{against} gap 2r(1{eps:+g}) {tag}", mk, r, outside=(centre,),
+                                kind="corner gap"))
     return out
 
 
@@ -112,25 +122,36 @@ def _embedded_cases() -> list[Case]:
     out = []
     r = 100.0
     for eps in (1e-8, 1e-4, -1e-8, -1e-4):
-        for what in ("gap", "neck"):
+        for what in ("gap", "neck", "corner gap", "wall gap"):
+            if what.endswith(" gap") and what != "gap" and abs(eps) != 1e-8:
+                continue
             def mk(eps=eps, what=what):
                 outline = sd.admin_outline(4000, seed=3, size=2e5, origin=(9.8e5, 2.1e5))
-                part = (sd.gap_pair if what == "gap" else sd.neck)(r, eps, 23.0, (0.0, 0.0))
-                return sd.embed_in_outline(part, outline, r)
+                return sd.embed_in_outline(_embedded_part(r, eps, what), outline, r)
             p = _embedded_centre(eps, what)          # the part's centre, in the outline's window
             if what == "gap":
                 kw = dict(outside=(p,)) if eps > 0 else {}
-            else:
+            elif what == "neck":
                 kw = dict(inside=(p,)) if eps > 0 else dict(outside=(p,), inits=("core",))
+            else:                                    # anticore for every eps (see sd.corner_gap)
+                kw = dict(outside=(p,))
             out.append(Case(f"embedded {what} 2r(1{eps:+g})", mk, r, kind=f"embedded {what}", **kw))
     return out
 
 
+def _embedded_part(r, eps, what):
+    """The part of an embedded case, its passage centred at the origin."""
+    if what in ("gap", "neck"):
+        return (sd.gap_pair if what == "gap" else sd.neck)(r, eps, 23.0, (0.0, 0.0))
+    return sd.corner_gap(r, eps, what.split()[0], 23.0, (0.0, 0.0))
+
+
 @cache
 def _embedded_centre(eps, what):
+    """Where `embed_in_outline` puts the part's passage (it centres the part's bounding box)."""
     outline = sd.admin_outline(4000, seed=3, size=2e5, origin=(9.8e5, 2.1e5))
     p = outline.representative_point()
-    part = (sd.gap_pair if what == "gap" else sd.neck)(100.0, eps, 23.0, (0.0, 0.0))
+    part = _embedded_part(100.0, eps, what)
     x0, y0, x1, y1 = part.bounds
     return (p.x - 0.5 * (x0 + x1), p.y - 0.5 * (y0 + y1))
 

@@ -11,6 +11,8 @@ Each generator is deterministic in its arguments (``seed``). Kinds:
 * `bar`, `slot`, `gap_pair`, `neck` — parts and passages of width ``2r·(1 + eps)`` (eps may be 0, < 0,
   > 0), at an angle and an offset from the origin, alone or embedded in a large outline
   (`embed_in_outline`), and a pixel-staircase variant (`staircase_stroke`).
+* `corner_gap` — short passages: a corner of S ``2r·(1 + eps)`` from another corner or from a flat
+  wall (a gap as long as a point, where a disk's clearance is decided by a vertex).
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ from scipy import ndimage
 from shapely.geometry import MultiPolygon, Polygon, box
 
 __all__ = ["admin_outline", "bar", "embed_in_outline", "gap_pair", "neck", "pixel_blob", "slot",
-           "staircase_gap", "staircase_stroke", "traced_contour"]
+           "staircase_gap", "staircase_stroke", "traced_contour", "corner_gap"]
 
 
 def _valid(geom):
@@ -168,6 +170,29 @@ def slot(r: float, eps: float, angle: float = 0.0, offset=(0.0, 0.0), side: floa
     body = box(-0.5 * s, -0.5 * s, 0.5 * s, 0.5 * s)
     cut = box(-0.5 * g, 0.5 * s - depth * r, 0.5 * g, 0.5 * s + r)
     return _place(body.difference(cut), angle, offset)
+
+
+def corner_gap(r: float, eps: float, against: str = "corner", angle: float = 0.0, offset=(0.0, 0.0),
+               side: float = 3.0):
+    """A square of side ``side·r`` standing on a corner whose lowest vertex is ``2r·(1 + eps)`` above what
+    lies below: another such square's top vertex (``against="corner"``), a flat wall (``"wall"``, a
+    rectangle 4r thick under y = −r(1 + eps)) or a bar exactly 2r thick there (``"bar"``: its core is its
+    centre line's stadium, a tie next to the passage). The passage is centred at the origin, then rotated
+    and moved.
+
+    Whatever eps, the origin is anticore: for eps ≥ 0 the r-disk centred there clears both sides; for
+    eps < 0 the r-disks that touch the corner(s) from either side (centred ``r·sqrt(1 − (1 + eps)²)``
+    off the axis for two corners), whose nearest points are the vertices, still cover it. A passage as
+    short as a vertex never closes the anticore: only a long one does (`gap_pair`).
+    """
+    g = r * (1 + eps)                                      # half the passage
+    h = side * r / math.sqrt(2.0)                           # half the diagonal
+    top = Polygon([(0.0, g), (h, g + h), (0.0, g + 2 * h), (-h, g + h)])
+    if against == "corner":
+        other = Polygon([(0.0, -g), (-h, -g - h), (0.0, -g - 2 * h), (h, -g - h)])
+    else:
+        other = box(-2 * h, -g - (4 * r if against == "wall" else 2 * r), 2 * h, -g)
+    return _place(MultiPolygon([top, other]), angle, offset)
 
 
 def embed_in_outline(part, outline: Polygon, r: float, margin: float = 3.0):

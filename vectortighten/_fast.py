@@ -31,12 +31,13 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
+from .offsets import precision_of
 from .tolerances import ANGLE_ZERO
 
 __all__: list[str] = []
 
 _TWO_PI = 2.0 * math.pi
-_EXACT = 1e-9         # relative slack of the exact distance tests (rounding only)
+_EXACT = 1e-9         # the exact distance tests' slack, relative to r, at most (see `_Rings.tie`)
 
 
 def _clean_ring(c: np.ndarray):
@@ -80,13 +81,18 @@ def _clean_ring(c: np.ndarray):
 class _Rings:
     """Per-vertex data of all rings of S, concatenated (vertex i, edge i from vertex i to next[i])."""
 
-    def __init__(self, S, r: float):
+    def __init__(self, S, r: float, precision: float | None = None):
         rings = [_clean_ring(shapely.get_coordinates(ring))
                  for ring in shapely.get_rings(shapely.get_parts(S))]
         self.ok = all(len(v) >= 3 for v, _, _ in rings)
         if not self.ok:
             return
         self.r = r
+        # The distance tests call a clearance of at least r − tie "r" (a tie, as a part exactly 2r wide):
+        # the closed rule of `offsets.exact_offsets`, whose slack is `precision_of(S)`, and never more than
+        # _EXACT·r. A neck narrower than 2r by more than that is cut here as it is there; one narrower by
+        # less than _EXACT·r but more than the precision used to pass as a tie (and come back joined).
+        self.tie = min(_EXACT * r, max(precision_of(S), precision or 0.0))
         sizes = np.array([len(v) for v, _, _ in rings])
         start = np.cumsum(sizes) - sizes
         self.slices = [slice(a, a + n) for a, n in zip(start.tolist(), sizes.tolist(), strict=True)]
@@ -189,12 +195,13 @@ class _Rings:
         return self._arcs[side]
 
 
-def fast_disk_loops(S, r: float, q: int, init: str):
+def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = None):
     """Disk loops ``[(centers, sides, phi, lengths, sweeps), ...]`` for every ring of S, or None.
 
-    ``S`` is oriented (S on the left of every ring), in the engine's local frame.
+    ``S`` is oriented (S on the left of every ring), in the engine's local frame; ``precision`` is the
+    rounding of the world coordinates in it (`offsets.exact_offsets`).
     """
-    D = _Rings(S, r)
+    D = _Rings(S, r, precision)
     if not D.ok or (np.abs(D.theta) > math.pi - 1e-6).any():
         return None                                     # a spike: no disk fits its corner
     if (D.length < -1e-12 * np.maximum(D.ell, r)).any():
@@ -209,7 +216,7 @@ def fast_disk_loops(S, r: float, q: int, init: str):
         inside = shapely.contains_xy(S, D.c[open_, 0], D.c[open_, 1])
         if ((D.side[open_] > 0) != inside).any():
             return None                                 # a disk on the wrong side of S
-    limit = r * (1 - _EXACT)
+    limit = r - D.tie
     rounded = None
     for side in (1, -1):
         # The straight pieces must lie on the core's boundary for init="core" (side +1) and, with the
@@ -279,7 +286,7 @@ def _offset_certified(D: _Rings, S, side: int) -> bool:
     p0 = np.where((D.side[f] == side)[:, None], D.c[f], D.v[f] + side * D.r * D.n[f])
     if (shapely.contains_xy(S, p0[:, 0], p0[:, 1]) != (side > 0)).any():
         return False
-    limit = D.r * (1 - _EXACT)
+    limit = D.r - D.tie
     if len(p0) * len(D.v) > 4_000_000:
         return not _closer_than(D, p0, p0, limit)
     # Few rings: every edge against every point, without building the k-d tree. An edge whose start is
@@ -873,7 +880,7 @@ def _arcs_clear(D: _Rings, side: int) -> bool:
     # Just outside its own disk (by rounding-proof 1e-8·r): the pieces that meet at the disk's centre are
     # then no nearer than r, and only another part of the shrink's (grow's) boundary can come nearer.
     x = D.c[owner] + (r * (1 + 1e-8)) * np.column_stack([np.cos(th), np.sin(th)])
-    limit = r * (1 - _EXACT)
+    limit = r - D.tie
     pieces = D.offsets(side)
     if _points_near_segments(x, pieces[:, 0], pieces[:, 1], limit):
         return False
@@ -965,4 +972,4 @@ def _reaches_edges(D: _Rings, S, side: int) -> bool:
         return False
     # Ends at a disk's centre of this side were found r from every edge before.
     known = (D.side[keep] == side, D.side[D.next[keep]] == side)
-    return not _closer_than(D, a, b, r * (1 - _EXACT), known)
+    return not _closer_than(D, a, b, r - D.tie, known)

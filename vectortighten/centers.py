@@ -429,19 +429,19 @@ def arc_centers(S, r: float, *, tolerance: float | None = None) -> ArcCenters:
     return exact_centers(S, r)[0]
 
 
-def exact_centers(S, r: float):
+def exact_centers(S, r: float, precision: float | None = None):
     """The exact arc centres of both sides from S's exact offsets, and those offsets (side +1, side −1).
 
     S must be valid (it is oriented here). Every centre is a corner of ``S↓r`` or of ``(S^c)↓r``
     (`vectortighten.offsets`), found from S's edges alone; each is given the two features of S nearest
-    to it (at distance r to rounding).
+    to it (at distance r to rounding). ``precision``: as in `offsets.exact_offsets`.
     """
     from .morphology import _orient
     from .offsets import exact_offsets
 
     S = _orient(S)
-    E = exact_offsets(S, r, 1)
-    G = exact_offsets(S, r, -1)
+    E = exact_offsets(S, r, 1, precision=precision)
+    G = exact_offsets(S, r, -1, precision=precision)
     xy = np.concatenate([E.corners, G.corners])
     side = np.concatenate([np.ones(len(E.corners), np.int8), -np.ones(len(G.corners), np.int8)])
     a, b, nxt = boundary_edges(S)

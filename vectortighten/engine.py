@@ -45,6 +45,7 @@ from .centers import ArcCenters, _search_window, boundary_edges, exact_centers, 
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
+from .offsets import precision_of
 from .tolerances import CENTRE_ROUNDING_R, CORNER_ANGLE, DOMAIN_CHORD_R, EXACT_CHORD_R, GUIDE_MISSING_R, \
     OBSTACLE_SAG_R, THICKEN_R, TOUCH_SCALE, VERIFY_DEPTH_R, ZERO_SCALE, rounding_length
 
@@ -94,7 +95,7 @@ class _Frame:
 # Context: everything about S and r that the loops are tightened against
 # ---------------------------------------------------------------------------------------------------------
 class _Context:
-    def __init__(self, S: Polygon | MultiPolygon, r: float, tolerance: float):
+    def __init__(self, S: Polygon | MultiPolygon, r: float, tolerance: float, precision: float | None = None):
         self.S = S
         self.r = r
         # Two precisions: the shrink and grow whose vertices give the exact centres and against which the
@@ -112,7 +113,7 @@ class _Context:
         # their pieces (arcs by chords within OBSTACLE_SAG_R·r), inside tests S's exact clearance. GEOS's
         # buffers E and G only guide the search for each loop's homotopy class (the free space).
         self.centers: ArcCenters
-        self.centers, self.xE, self.xG = exact_centers(S, r)
+        self.centers, self.xE, self.xG = exact_centers(S, r, precision)
         self.precision = self.xE.precision
         self.pen_center = max(1e-10 * r, 4.0 * self.precision)
         obstacle_angle = 2.0 * math.sqrt(2.0 * OBSTACLE_SAG_R)
@@ -1248,8 +1249,9 @@ class Tightening:
         from the edges of S alone (`_fast`): they are run again on S, and must certify it and give these
         very disks, in the same order, on the same sides, with the same sweeps.
         """
-        _, disk_loops, (S_local, r_l, _) = self._cache["_exact"]
-        again = _fast.fast_disk_loops(S_local, r_l, quad_segs_for(r_l, EXACT_CHORD_R * r_l), self.init)
+        _, disk_loops, (S_local, r_l, _, precision) = self._cache["_exact"]
+        again = _fast.fast_disk_loops(S_local, r_l, quad_segs_for(r_l, EXACT_CHORD_R * r_l), self.init,
+                                      precision)
         if again is None:
             return ["(c) the corners of S are not all isolated: the fast path's exact tests reject this result"]
         problems = []
@@ -1425,8 +1427,10 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
     frame = _Frame.of(S)
     S_local = frame.to_local(S)
     r_l, tol_l = r / frame.scale, tol / frame.scale
+    # The local frame keeps the rounding of S's own coordinates: ties are decided to that precision.
+    precision = precision_of(S) / frame.scale
     q_exact = quad_segs_for(r_l, EXACT_CHORD_R * r_l)
-    fast = _fast.fast_disk_loops(S_local, r_l, q_exact, init.value) if allow_fast else None
+    fast = _fast.fast_disk_loops(S_local, r_l, q_exact, init.value, precision) if allow_fast else None
     path = "fast"
     if fast is None and allow_fast:
         # A convex polygon's tightening is its opening, for every init (proof in `_convex`).
@@ -1445,7 +1449,7 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
             # loops touch too, and only the general engine's surgery separates or joins them.
             fast = None
     if fast is None:
-        ctx = _Context(S_local, r_l, tol_l)
+        ctx = _Context(S_local, r_l, tol_l, precision)
         rings = _initial_rings(ctx, S_local, init)
         disk_loops = _tighten_all(ctx, rings) if rings else []
         loops = [frame.loop_to_world(L.to_loop()) for L in disk_loops]
@@ -1455,7 +1459,7 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
     if not result.converged:
         warnings.warn("the exact finish did not settle on every loop: the result may enter the core or the "
                       "anticore (Tightening.verify() lists where)", ConvergenceWarning, stacklevel=3)
-    result._cache["_exact"] = (ctx, disk_loops, (S_local, r_l, tol_l))
+    result._cache["_exact"] = (ctx, disk_loops, (S_local, r_l, tol_l, precision))
     result._cache["_frame"] = frame
     result._cache["_path"] = path if fast is not None else "general"
     return result

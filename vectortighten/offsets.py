@@ -209,11 +209,11 @@ def _elements(a, b, prv, nxt, r, side):
 class _Elements:
     """The raw offset elements of one side, and exact cuts of them against edges' capsules."""
 
-    def __init__(self, S, r: float, side: int):
+    def __init__(self, S, r: float, side: int, precision: float | None = None):
         self.S, self.r, self.side = S, r, side
         a, b, prv, nxt = _edges(S)
         self.a, self.b, self.nxt = a, b, nxt
-        self.eps = precision_of(S)
+        self.eps = max(precision_of(S), precision or 0.0)
         seg, N, turn, ai, arc_v, arc_a0, arc_sw = _elements(a, b, prv, nxt, r, side)
         self.seg, self.N, self.turn = seg, N, turn
         self.ai, self.arc_v, self.arc_a0, self.arc_sw = ai, arc_v, arc_a0, arc_sw
@@ -396,7 +396,8 @@ _CLEAR_PIECE_R = 1.0 / 16.0     # longest piece (relative to r) cut against ever
 _SPLIT_MAX_R = 4.0              # … unless it is longer than this (relative to r), then it stays whole
 
 
-def exact_offsets(S, r: float, side: int = 1, _brute: bool = False) -> OffsetPieces:
+def exact_offsets(S, r: float, side: int = 1, _brute: bool = False, *,
+                  precision: float | None = None) -> OffsetPieces:
     """The exact boundary pieces and corners of ``S↓r`` (``side=1``) or of ``(S^c)↓r`` (``side=-1``).
 
     Parameters
@@ -408,6 +409,9 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False) -> OffsetPie
     side : {1, -1}
         +1 for the shrink of S (its corners are the centres of the core's convex arcs), −1 for the shrink
         of S's complement (the centres of the fillet's concave arcs).
+    precision : float, optional
+        A larger tie slack than `precision_of(S)`, in S's units: for a shape moved and scaled from
+        coordinates whose rounding S still carries (the engine's local frame), that of the original.
 
     Returns
     -------
@@ -440,7 +444,7 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False) -> OffsetPie
     [(1.0, 1.0), (9.0, 1.0)]
     """
     r = float(r)
-    X = _Elements(S, r, side)
+    X = _Elements(S, r, side, precision)
     eps = X.eps
     n_el = X.n_seg + X.n_arc
     if n_el == 0:
