@@ -78,3 +78,31 @@ def test_verify_is_clean_exactly_when_the_oracle_is(case_id, init):
 def test_exact_decision(case_id, init):
     case, T, J, _ = _result(case_id, init)
     assert ec.decision_errors(case, init, T) == []
+
+
+def _passages():
+    out = []
+    for c in CASES:
+        kind, width = c.kind, c.id.split()[1] if c.kind in ("gap", "neck") else None
+        if width is not None:
+            eps = float(width[len("2r(1"):-1])
+            out.append(pytest.param(c.id, kind, eps, id=c.id))
+    return out
+
+
+@pytest.mark.parametrize("case_id, kind, eps", _passages())
+def test_core_and_fillet_decide_passages_as_the_exact_offsets(case_id, kind, eps):
+    """Issue 25 item 2: `vt.core` and `vt.fillet` make the engine's decision. Two squares 2r(1 + eps) apart
+    are two parts of the fillet exactly when an r-disk passes (eps ≥ 0); two squares joined by a neck
+    2r(1 + eps) wide are one part of the core exactly when it holds an r-disk (eps ≥ 0)."""
+    import shapely
+
+    import vectortighten as vt
+
+    case = next(c for c in CASES if c.id == case_id)
+    if kind == "gap":
+        parts = shapely.get_num_geometries(vt.fillet(case.shape, case.r))
+        assert parts == (2 if eps >= 0 else 1)
+    else:
+        parts = shapely.get_num_geometries(vt.core(case.shape, case.r))
+        assert parts == (1 if eps >= 0 else 2)
