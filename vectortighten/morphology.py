@@ -676,7 +676,10 @@ def _mason(S: Polygonal, r: float, q: int, tol: float, exact=None) -> Polygonal:
     chosen = [rf if a <= b else fr for rf, fr, a, b in zip(in_rf, in_fr, d_rf, d_fr)]
     # Stitch the chosen pieces to the core; a closing by a tiny distance would not be exact, so the
     # shared boundaries are merged by the union itself (they come from the same polygons).
-    out = shapely.union_all([R, *chosen])
+    # Only the pieces' polygons: an overlay's result may hold lines and points along the pocket's edges
+    # (thousands on many holes), which the union would node into R's boundary only to drop them.
+    pieces = [g for g in shapely.get_parts(np.asarray(chosen, dtype=object)) if g.geom_type == "Polygon"]
+    out = shapely.union_all([R, *pieces])
     out = _polygonal(shapely.intersection(_polygonal(out), F))
     out = _polygonal(shapely.union(out, R))
     out = _nudge(out, R, into=False)
