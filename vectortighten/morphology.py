@@ -893,16 +893,18 @@ def _between(geom: Polygonal, R: Polygonal, F: Polygonal) -> Polygonal:
             return geom                               # a vertex far inside (outside): a real violation
     coords = np.concatenate(rings)
     fixed = _keys_in(coords, np.concatenate([cf, cr]))
+    free = np.flatnonzero(~fixed)                     # (only these are tested: F's and R's own stay)
     for target, inside in ((F, True), (R, False)):
-        x, y = coords[:, 0], coords[:, 1]
-        bad = ~fixed & (~shapely.intersects_xy(target, x, y) if inside else shapely.contains_xy(target, x, y))
-        if bad.any():
+        x, y = coords[free, 0], coords[free, 1]
+        bad = free[~shapely.intersects_xy(target, x, y) if inside else shapely.contains_xy(target, x, y)]
+        if len(bad):
             moved = _onto(coords[bad], target, F, R, reach)
             if moved is None:
                 return geom
             coords[bad] = moved
-    x, y = coords[:, 0], coords[:, 1]
-    drop = ~fixed & (~shapely.intersects_xy(F, x, y) | shapely.contains_xy(R, x, y))
+    x, y = coords[free, 0], coords[free, 1]
+    drop = np.zeros(len(coords), dtype=bool)
+    drop[free] = ~shapely.intersects_xy(F, x, y) | shapely.contains_xy(R, x, y)
     out, k = [], 0
     sizes = np.cumsum([0] + [len(c) for c in rings])
     for p in parts:
