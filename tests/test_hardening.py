@@ -163,6 +163,45 @@ def test_mason_inclusion_repair_moves_only_stray_vertices():
     assert _between(deep, R, F) is deep
 
 
+def test_mason_pieces_are_attached_ring_by_ring_as_the_whole_overlay_would():
+    """`_attach` (R ∪ pieces ∩ F near each ring of R) gives the set of the overlays of the whole on 4
+    holes: the same parts and rings, areas to 1e-12; a group of pieces bridging two rings is left to them."""
+    from vectortighten import morphology as m
+
+    S, r = holed_square(2), 1.0
+    R, F = m._core(S, r, 125), m._fillet(S, r, 125)
+    M = m._polygonal(shapely.difference(F, R))
+    pieces = [m._polygonal(shapely.intersection(P, F)) for P in m._pockets(M, 4e-5)]
+    pieces = [g for g in shapely.get_parts(np.asarray(pieces, dtype=object)) if g.geom_type == "Polygon"]
+    whole = m._polygonal(shapely.union(m._polygonal(shapely.intersection(shapely.union_all([R, *pieces]), F)), R))
+    local = m._attach(R, pieces, F)
+    assert local is not None and local.is_valid
+    assert len(shapely.get_parts(local)) == len(shapely.get_parts(whole)) == 1
+    assert len(local.interiors) == len(whole.interiors)
+    assert abs(local.area - whole.area) <= 1e-12 * whole.area
+    assert local.symmetric_difference(whole).area <= 1e-12 * whole.area
+    two = box(0, 0, 1, 1).union(box(2, 0, 3, 1))
+    bridge = box(1, 0.2, 2, 0.8)
+    assert m._attach(two, [bridge], box(0, 0, 3, 1)) is None
+
+
+def test_mason_piece_an_ulp_off_a_hole_is_welded_to_it():
+    """A piece that an overlay left a sub-ulp gap from R's hole (the union of the two alone gives two
+    parts) is joined to R: its vertices go into the hole's ring, one part, the area of both."""
+    from vectortighten import morphology as m
+
+    R = box(0, 0, 1, 1).difference(box(0.25, 0.25, 0.75, 0.75))
+    x = np.nextafter(0.25, 1.0)                                      # one ulp inside the hole
+    piece = Polygon([(x, 0.3), (0.3, 0.4), (x, 0.5)])
+    assert shapely.union(R, piece).geom_type == "MultiPolygon"        # not touching, for GEOS
+    out = m._attach(R, [piece], box(0, 0, 1, 1))
+    assert out is not None and out.is_valid and out.geom_type == "Polygon"
+    assert len(out.interiors) == 1
+    assert abs(out.area - (R.area + piece.area)) <= 1e-15
+    hole = shapely.get_coordinates(out.interiors[0])
+    assert any((hole == (x, 0.3)).all(axis=1)) and any((hole == (x, 0.5)).all(axis=1))
+
+
 def test_touching_parts_leave_the_fast_path():
     """Found by benchmarks/fuzz_api.py (seed 24): two spikes whose bases cross; the repair leaves two parts
     sharing a vertex, the fast path's loops touched there and came back converged (verify: "two loops

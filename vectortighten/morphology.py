@@ -676,11 +676,169 @@ def _mason(S: Polygonal, r: float, q: int, tol: float, exact=None) -> Polygonal:
     chosen = [rf if a <= b else fr for rf, fr, a, b in zip(in_rf, in_fr, d_rf, d_fr)]
     # Stitch the chosen pieces to the core; a closing by a tiny distance would not be exact, so the
     # shared boundaries are merged by the union itself (they come from the same polygons).
-    out = shapely.union_all([R, *chosen])
-    out = _polygonal(shapely.intersection(_polygonal(out), F))
+    # Only the pieces' polygons: an overlay's result may hold lines and points along the pocket's edges
+    # (thousands on many holes), which the union would node into R's boundary only to drop them.
+    pieces = [g for g in shapely.get_parts(np.asarray(chosen, dtype=object)) if g.geom_type == "Polygon"]
+    out = _attach(R, pieces, F)
+    if out is None:
+        out = shapely.union_all([R, *pieces])
+        out = _polygonal(shapely.intersection(_polygonal(out), F))
+    # (After `_attach`, the union with R also takes in the slivers under an ulp wide that its overlays
+    # leave along R's edges, whose vertices the nudge below would push across their other side: a
+    # self-intersection, and a make_valid of the whole, 0.5 s on 64 holes.)
     out = _polygonal(shapely.union(out, R))
     out = _nudge(out, R, into=False)
     return _orient(_between(out, R, F))
+
+
+def _attach(R: Polygonal, pieces: list[Polygon], F: Polygonal) -> Polygonal | None:
+    """``R ∪ (⋃ pieces ∩ F)`` computed near each ring of R that the pieces touch; None where that is not
+    the same set, for the caller's overlays of the whole (which cost the noding of all of R and F, ~10⁵
+    vertices along nearly coincident boundaries on many holes).
+
+    The pieces lie outside R, in the mortar, and touch it along its boundary. Pieces that intersect one
+    another are grouped; a group meeting one hole H of R only shrinks it, to ``Polygon(H) − U`` (U: the
+    group's union ∩ F, with F clipped to U's box); a group meeting one exterior E only grows it, to
+    ``Polygon(E) ∪ U`` (whose holes become holes of that part); a group meeting no ring and farther than
+    rounding from R is a part of its own. A group that an overlay left a rounding gap (under 256 ulps)
+    away from one ring is welded to it: its vertices that near the ring are inserted into the ring, and
+    the ring's that near it into the group, so that the two share those points. What ``Polygon(H) − U``
+    encloses comes back as parts. As R ⊆ F, ``(R ∪ ⋃ pieces) ∩ F ∪ R`` is this set. None if a group
+    meets two rings, if a grown exterior is not one polygon, or if the result is not valid.
+    """
+    polys = [g for g in pieces if not g.is_empty and g.area > 0]
+    R = _orient(R)
+    parts = list(shapely.get_parts(R))
+    if not polys or not parts:
+        return None
+    rings, owner, is_hole = [], [], []
+    for k, p in enumerate(parts):
+        for i, ring in enumerate(shapely.get_rings(p)):
+            rings.append(ring), owner.append(k), is_hole.append(i > 0)
+    polys_a = np.asarray(polys, dtype=object)
+    group = list(range(len(polys)))
+
+    def find(i: int) -> int:
+        while group[i] != i:
+            group[i] = group[group[i]]
+            i = group[i]
+        return i
+
+    a, b = shapely.STRtree(polys_a).query(polys_a, predicate="intersects")
+    for i, j in zip(a.tolist(), b.tolist()):
+        if i < j:
+            group[find(i)] = find(j)
+    members: dict[int, list[int]] = {}
+    for i in range(len(polys)):
+        members.setdefault(find(i), []).append(i)
+    x0, y0, x1, y1 = F.bounds
+    gap = 256.0 * float(np.spacing(max(map(abs, F.bounds))))
+    ring_tree = shapely.STRtree(rings)
+    pi, ri = ring_tree.query(polys_a, predicate="intersects")
+    touched: dict[int, set[int]] = {}
+    for i, j in zip(pi.tolist(), ri.tolist()):
+        touched.setdefault(find(i), set()).add(j)
+    by_ring: dict[int, list[int]] = {}
+    weld: dict[int, list[int]] = {}
+    loose: list[int] = []
+    for g, idx in members.items():
+        t = touched.get(g)
+        if t is None:
+            near = np.unique(ring_tree.query(polys_a[idx], predicate="dwithin", distance=gap)[1])
+            t = set(near.tolist())
+            if len(t) == 1:
+                weld.setdefault(next(iter(t)), []).extend(idx)
+        if len(t) > 1:
+            return None
+        if t:
+            by_ring.setdefault(next(iter(t)), []).extend(idx)
+        else:
+            loose.extend(idx)
+    rings = list(rings)
+    for j, idx in weld.items():
+        welded = _weld(rings[j], polys_a[idx], gap)
+        if welded is None:
+            return None
+        rings[j], polys_a[idx] = welded
+    pad = 1e-6 * max(x1 - x0, y1 - y0)
+
+    def in_f(idx: list[int]) -> Polygonal:
+        U = _polygonal(shapely.union_all(polys_a[idx]))
+        if U.is_empty:
+            return U
+        u0, v0, u1, v1 = U.bounds
+        return _polygonal(shapely.intersection(U, shapely.clip_by_rect(F, u0 - pad, v0 - pad, u1 + pad, v1 + pad)))
+
+    extra: list[Polygon] = []
+    shells: list = [None] * len(parts)
+    holes: list[list] = [[] for _ in parts]
+    added: list[list] = [[] for _ in parts]
+    for j, ring in enumerate(rings):
+        k, idx = owner[j], by_ring.get(j)
+        if not is_hole[j]:
+            shells[k] = ring
+            if idx:
+                grown = _polygonal(shapely.union(Polygon(ring), in_f(idx)))
+                if grown.geom_type != "Polygon" and j not in weld:
+                    welded = _weld(ring, polys_a[idx], gap)          # a piece an ulp off: weld, again
+                    if welded is None:
+                        return None
+                    ring, polys_a[idx] = welded
+                    grown = _polygonal(shapely.union(Polygon(ring), in_f(idx)))
+                if grown.geom_type != "Polygon":
+                    return None
+                shells[k] = grown.exterior
+                added[k] = list(grown.interiors)
+            continue
+        if not idx:
+            holes[k].append(ring)
+            continue
+        U = in_f(idx)
+        left = _polygonal(shapely.difference(Polygon(ring), U))
+        if j not in weld and any(len(g.interiors) for g in shapely.get_parts(left)):
+            welded = _weld(ring, polys_a[idx], gap)        # a piece touching H at a point, an ulp off
+            if welded is None:                             # along a stretch: weld, again
+                return None
+            ring, polys_a[idx] = welded
+            U = in_f(idx)
+            left = _polygonal(shapely.difference(Polygon(ring), U))
+        for g in shapely.get_parts(left):
+            if g.is_empty:                                 # (the hole is filled)
+                continue
+            holes[k].append(g.exterior)
+            for inner in g.interiors:
+                extra += list(shapely.get_parts(_polygonal(shapely.intersection(Polygon(inner), U))))
+    out = [Polygon(shells[k], added[k] + holes[k]) for k in range(len(parts))]
+    if loose:
+        out += list(shapely.get_parts(in_f(loose)))
+    out = [g for g in out + extra if not g.is_empty]
+    result = out[0] if len(out) == 1 else MultiPolygon(out)
+    return result if result.is_valid else None
+
+
+def _weld(ring, polys: np.ndarray, gap: float):
+    """``ring`` and ``polys`` with the vertices of each that lie within ``gap`` of the other's edges (but
+    are not already vertices of it) inserted into the other's nearest edge; None if that fails."""
+    rc = shapely.get_coordinates(ring)
+    pr = [[shapely.get_coordinates(x) for x in shapely.get_rings(p)] for p in polys]
+    pc = np.concatenate([c for rr in pr for c in rr])
+    own = _keys_in(pc, rc)
+    near = ~own & shapely.dwithin(ring, shapely.points(pc), gap)
+    new_ring = _insert_into_edges([rc], np.unique(pc[near], axis=0), gap) if near.any() else [rc]
+    if new_ring is None:
+        return None
+    flat = [c for rr in pr for c in rr]
+    U = shapely.multipolygons(polys) if len(polys) > 1 else polys[0]
+    back = ~_keys_in(rc, pc) & shapely.dwithin(U.boundary, shapely.points(rc), gap)
+    if back.any():
+        flat = _insert_into_edges(flat, rc[back], gap)
+        if flat is None:
+            return None
+    out, k = [], 0
+    for rr in pr:
+        out.append(Polygon(flat[k], flat[k + 1:k + len(rr)]))
+        k += len(rr)
+    return shapely.linearrings(new_ring[0]), np.asarray(out, dtype=object)
 
 
 def _per_part(parts: list[Polygon], X: Polygonal) -> np.ndarray:
@@ -735,16 +893,18 @@ def _between(geom: Polygonal, R: Polygonal, F: Polygonal) -> Polygonal:
             return geom                               # a vertex far inside (outside): a real violation
     coords = np.concatenate(rings)
     fixed = _keys_in(coords, np.concatenate([cf, cr]))
+    free = np.flatnonzero(~fixed)                     # (only these are tested: F's and R's own stay)
     for target, inside in ((F, True), (R, False)):
-        x, y = coords[:, 0], coords[:, 1]
-        bad = ~fixed & (~shapely.intersects_xy(target, x, y) if inside else shapely.contains_xy(target, x, y))
-        if bad.any():
+        x, y = coords[free, 0], coords[free, 1]
+        bad = free[~shapely.intersects_xy(target, x, y) if inside else shapely.contains_xy(target, x, y)]
+        if len(bad):
             moved = _onto(coords[bad], target, F, R, reach)
             if moved is None:
                 return geom
             coords[bad] = moved
-    x, y = coords[:, 0], coords[:, 1]
-    drop = ~fixed & (~shapely.intersects_xy(F, x, y) | shapely.contains_xy(R, x, y))
+    x, y = coords[free, 0], coords[free, 1]
+    drop = np.zeros(len(coords), dtype=bool)
+    drop[free] = ~shapely.intersects_xy(F, x, y) | shapely.contains_xy(R, x, y)
     out, k = [], 0
     sizes = np.cumsum([0] + [len(c) for c in rings])
     for p in parts:
