@@ -326,8 +326,14 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
     ------
     ValueError
         If ``pixel_size`` or ``r`` is not a positive finite number, ``supersample`` is not an odd whole
-        number ≥ 1, the grid would exceed 60 million pixels or the fine grid 200 million (use a larger
-        ``pixel_size`` or a smaller ``supersample``), or no pixel centre falls inside S.
+        number ≥ 1, the grid would exceed 60 million pixels (use a larger ``pixel_size``), or no pixel
+        centre falls inside S.
+
+    Warns
+    -----
+    raster.SupersampleWarning
+        If the fine grid would exceed `raster.MAX_SUPERSAMPLED_PIXELS` (50 million pixels, about 3.5 GB
+        of morphology): the check then runs with ``supersample=1`` (plain morphology) and says so.
 
     Examples
     --------
@@ -351,11 +357,18 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
     if isinstance(supersample, bool) or not isinstance(supersample, (int, np.integer)) or supersample < 1 \
             or supersample % 2 == 0:
         raise ValueError(f"supersample must be an odd whole number ≥ 1, got {supersample!r}")
+    n_fine = grid.shape[0] * grid.shape[1] * supersample * supersample
+    limit = raster.flow.MAX_SUPERSAMPLED_PIXELS
+    if supersample > 1 and n_fine > limit:
+        import warnings
+
+        warnings.warn(f"crosscheck: supersample {supersample} would make a grid of {n_fine:,} pixels, over the "
+                      f"limit of {limit:,} for supersampled morphology "
+                      f"(raster.MAX_SUPERSAMPLED_PIXELS); using plain morphology (supersample 1)",
+                      raster.SupersampleWarning, stacklevel=2)
+        supersample = 1
     fine = raster.Grid(grid.x0, grid.y_top, pixel_size / supersample,
                        (grid.shape[0] * supersample, grid.shape[1] * supersample))
-    if fine.shape[0] * fine.shape[1] > 200_000_000:
-        raise ValueError(f"supersample {supersample} makes a grid of {fine.shape[1]} × {fine.shape[0]} pixels; "
-                         f"use a smaller one")
     T = tighten(S, r, init=init)
     mask, _ = raster.rasterize(S, fine)
     if not mask.any():
