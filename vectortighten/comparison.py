@@ -36,10 +36,12 @@ class Disagreement:
     kind : str
         One of `KINDS`: ``"defect of the pixel side"`` (the pixel result breaks core ⊆ T ⊆ F here, or has
         a component holding no core or a hole holding no anticore: a tight loop around nothing of them
-        could still shrink); ``"rasterisation (not resolvable)"`` (the exact tightening of the pixel
-        input agrees with the pixel result here, and so does the exact tightening of S moved by the
-        rasterisation's own error, half a pixel diagonal: no pixel method can decide this region at this
-        pixel size); ``"defect of the exact side"`` (the exact result's `verify` reports violations; tried
+        could still shrink); ``"rasterisation (not resolvable)"`` (the exact tightening of S moved by
+        the rasterisation's own error, half a pixel diagonal, agrees with the pixel result here, and
+        usually so does the exact tightening of the pixel input: no pixel method can decide this region at
+        this pixel size; the evidence gives the stroke or gap width of S there against 2r, and the pixel
+        sizes. Where S is about 2r wide the pixel input's exact tightening may differ from both, since
+        the pixel morphology tries disk centres only on the fine grid); ``"defect of the exact side"`` (the exact result's `verify` reports violations; tried
         before the rasterisation, since the exact tightening of the pixel input, right, would agree with
         the pixel result there too); ``"rasterisation (resolvable)"`` (the exact tightening of the pixel
         input agrees with the pixel result, S moved by half a pixel diagonal does not: a finer grid
@@ -463,6 +465,23 @@ def _explain(check: CrossCheck) -> list[Disagreement]:
             lazy["verify"] = T.verify()
         return lazy["verify"]
 
+    def width() -> str:
+        # How wide S is where the region lies (its pixel centres' largest distance to ∂S, inside and
+        # outside S: half the widest stroke or gap there), against 2r, and the pixel sizes.
+        rows_, cols_ = np.nonzero(region_full)
+        pts = shapely.points(grid.x0 + (cols_ + 0.5) * h, grid.y_top - (rows_ + 0.5) * h)
+        inside_s = shapely.contains(T.shape, pts)
+        dist = shapely.distance(T.shape.boundary, pts)
+        # The centres come within ½ pixel diagonal of the widest point: the width lies in [2d, 2d + h√2].
+        parts_ = []
+        for sel, what in ((inside_s, "a stroke"), (~inside_s, "a gap")):
+            if sel.any():
+                w0 = 2 * float(dist[sel].max())
+                parts_.append(f"{what} of S {w0:.4g} to {w0 + h * math.sqrt(2):.4g} wide")
+        return (f"width: the region lies in {' and '.join(parts_)}, against 2r = {2 * check.r:.4g}; pixel "
+                f"{h:.4g}, morphology pixel {h / check.supersample:.4g} (½ diagonal "
+                f"{h / check.supersample * math.sqrt(0.5):.3g})")
+
     # A mask samples each boundary at the pixel centres, so a region of depth d holds boundary points up to
     # d + ½ px apart (and as little as d − ½): when the check does not agree, look from AGREE_PX − 1 on.
     allowance = AGREE_PX if check.agree else AGREE_PX - 1.0
@@ -533,6 +552,23 @@ def _explain(check: CrossCheck) -> list[Disagreement]:
             ev.append(f"S moved by ∓½ pixel diagonal: its exact tightening agrees with the pixel result on "
                       f"{100 * shares[0]:.0f}% / {100 * shares[1]:.0f}% of the region")
             d.kind = "rasterisation (not resolvable)" if max(shares) >= 0.5 else "rasterisation (resolvable)"
+            ev.append(width())
+            ev.append(rest)
+            out.append(d)
+            continue
+        # The pixel morphology tries disk centres only at the fine pixels' centres and corners, the exact
+        # engine anywhere: where S is about 2r wide, the exact tightening of the mask's squares may keep a
+        # disk the pixel core cannot hold (or lose one), and the share above says nothing. What decides is
+        # whether moving S by the rasterisation's own error changes the exact answer to the pixel one.
+        shares = [float((tm[win] == pm[win])[region].mean()) for tm in moved()]
+        ev.append(f"S moved by ∓½ pixel diagonal: its exact tightening agrees with the pixel result on "
+                  f"{100 * shares[0]:.0f}% / {100 * shares[1]:.0f}% of the region")
+        if max(shares) >= 0.5:
+            d.kind = "rasterisation (not resolvable)"
+            ev.append(width())
+            ev.append("the exact answer here changes when S moves by the rasterisation's own error, so no "
+                      "pixel method at this pixel size can decide it (the exact tightening of the mask, another "
+                      "rasterisation, decides it otherwise)")
             ev.append(rest)
             out.append(d)
             continue
