@@ -314,10 +314,13 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
         Rasterise S this many times finer (pixels of side ``pixel_size / supersample``, in S's units) and
         let `raster.tighten` compute its core, fillet and start, and their signed distances, there (its
         ``supersample``); the flow and the comparison stay on the grid of ``pixel_size``. The default, 5,
-        agrees best: on the project's 16 benchmark shapes at ``r / 20`` the two agree in 16/16 cases for
-        both ``init="core"`` and ``init="input"`` (3: 15/16, 1: 13/16), at about five times the time of
-        a plain rasterisation (3: about twice), nearly all of it the morphology on the fine grid. 1 is the
-        paper's method on a plain rasterisation, `raster.tighten`'s own default. With
+        is the measured choice (`benchmarks/crosscheck_supersample.py`, five corpus shapes at ``r / 20``,
+        in ``benchmarks/results/crosscheck_corpus.md``): plain morphology (1) misses the 2 px bar on a
+        country outline (4.15 px), 3 agrees on all five but leaves that one at 1.73 px, 5 at 0.88 px and
+        the median at 0.51 px (1: 1.13, 3: 0.55); the pixel side then takes 4.6 to 21 times as long as
+        with 1 (3: 3.1 to 6.6), nearly all of it the morphology on the fine grid. 1 is the paper's
+        method on a plain rasterisation, `raster.tighten`'s own default (a mask has no finer version).
+        A fine grid over `raster.MAX_SUPERSAMPLED_PIXELS` falls back to 1 with a warning. With
         ``mask_reference`` the reference is the union of the fine mask's squares.
 
     Returns
