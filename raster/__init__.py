@@ -11,7 +11,15 @@ and values; `tighten_labels` tightens every label of a label image into one labe
 `read_image` and `write_image` keep a file's values, dtype and layout (PNG, TIFF, BMP).
 """
 
-from .flow import NotConvergedWarning, RasterTightening, default_levels, signed_distance, tighten
+from .flow import (
+    MAX_SUPERSAMPLED_PIXELS,
+    NotConvergedWarning,
+    RasterTightening,
+    SupersampleWarning,
+    default_levels,
+    signed_distance,
+    tighten,
+)
 from .grid import Grid, contours, rasterize
 from .io import MAX_PIXELS, MaskImage, load_mask, read_image, save_mask, write_image
 from .labels import LabelTightening, tighten_labels
@@ -28,6 +36,7 @@ from .morphology import anticore, core, fillet, fillet_round, grow, mason, morta
 
 __all__ = [
     "MAX_PIXELS",
+    "MAX_SUPERSAMPLED_PIXELS",
     "EmptyMaskWarning",
     "Grid",
     "LabelTightening",
@@ -38,6 +47,7 @@ __all__ = [
     "MaskWarning",
     "NotConvergedWarning",
     "RasterTightening",
+    "SupersampleWarning",
     "anticore",
     "binarize",
     "contours",

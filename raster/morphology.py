@@ -178,21 +178,31 @@ def _opening(P: np.ndarray, r: float, parts: bool = False):
     fits, box = _corner_fits(P, r, d, centre)
     if fits is not None:
         disk, n = _corner_disk(r)
-        out[box] |= _fft_count(fits, disk, n, spread=True) > 0
+        covered = _fft_count(fits, disk, n, spread=True) > 0
+        out[box] |= covered
     if not parts:
         return out
     sd = (dc - (r + 0.5)).astype(np.float32)
     if fits is not None:
         # Only near the edge (deeper in, the pixel-centred disks' depth is as good: Φ there is far from
-        # the front and the traced edges never reach it).
+        # the front and the traced edges never reach it), and beyond two pixels outside the pixel-centred
+        # disks only near the corner-centred ones: every use of the distance clips it to ±2 or reads it on
+        # the core alone, and a pixel whose nearest fitting corner is within r + 2 lies within 3.5 px of a
+        # pixel that corner's disk covers (the chessboard reach of 4 below).
         sub = sd[box]
-        near = np.flatnonzero((sub > -2.0).ravel())
+        reach = ndimage.maximum_filter(covered, size=2 * _CORNER_REACH + 1, mode="constant")
+        near = np.flatnonzero(((sub > -2.0) & ((sub <= 2.0) | reach)).ravel())
         flat = sub.ravel()
         flat[near] = np.minimum(flat[near], _dist_to_corners(fits, near) - r)
         sd[box] = flat.reshape(sub.shape)
     # Ties and the nearest-corner search aside, the sign already agrees with the core; make it certain.
     sd = np.where(out, np.minimum(sd, -0.02), np.maximum(sd, 0.02)).astype(np.float32)
     return out, core_c, sd
+
+
+#: Chessboard reach (pixels) around the corner-centred disks' pixels within which `_opening` finds the
+#: distance to the nearest fitting corner (see there).
+_CORNER_REACH = 4
 
 
 def _corner_fits(P, r, d, centre):

@@ -53,6 +53,28 @@ def _part_mask(part, shape) -> np.ndarray:
     return out
 
 
+def _part_pixels(part, labels: np.ndarray) -> np.ndarray:
+    """The pixels of one part of `_squares` (a polygon of it): the 4-connected component of the mask
+    (labelled ``labels``, by `ndimage.label`'s default 4-adjacency) whose squares make it. Two squares
+    that share an edge lie in one part and two that share only a corner do not, so the parts are the
+    4-connected components; any interior point of the part lies in a pixel of its component. The same
+    as `_part_mask` (the pixels whose centre the part holds), without a point-in-polygon test."""
+    x, y = shapely.get_coordinates(shapely.point_on_surface(part))[0]
+    i = min(max(int(np.floor(-y)), 0), labels.shape[0] - 1)
+    j = min(max(int(np.floor(x)), 0), labels.shape[1] - 1)
+    k = labels[i, j]
+    if k == 0:                  # not expected (the point lies inside the part); fall back on the test
+        return _part_mask(part, labels.shape)
+    return labels == k
+
+
+def _box_of(a: np.ndarray) -> tuple[slice, slice]:
+    """The bounding box of a non-empty mask with a one-pixel margin (clipped to the array): a set's
+    components and holes are the same within it as in the whole array."""
+    rows, cols = np.flatnonzero(a.any(axis=1)), np.flatnonzero(a.any(axis=0))
+    return (slice(max(rows[0] - 1, 0), rows[-1] + 2), slice(max(cols[0] - 1, 0), cols[-1] + 2))
+
+
 def _topology(inside: np.ndarray) -> tuple[int, int]:
     """Components (8-connected) and holes (4-connected) of a pixel set."""
     _, n = ndimage.label(inside, structure=np.ones((3, 3), bool))
@@ -211,6 +233,7 @@ def mpp_finish(mask, core, fillet, *, core_sd=None, anticore_sd=None, return_cur
     # Each part of the set is wrapped and sampled on its own: two loops that come to touch along a line
     # share no pixel centre and stay two parts; loops that overlap share pixels and merge, as the level set
     # merges them.
+    parts_lab, _ = ndimage.label(M)             # 4-connected: the parts of the union of M's squares
     for part in shapely.get_parts(_squares(M)):
         shell = wrap(shapely.get_coordinates(part.exterior))
         if shell is None:
@@ -240,9 +263,11 @@ def mpp_finish(mask, core, fillet, *, core_sd=None, anticore_sd=None, return_cur
         # failed on a degenerate sleeve could give a self-touching curve); otherwise keep the flow's own.
         mine = np.zeros(M.shape, dtype=bool)
         mine[ii[got], jj[got]] = True
-        mine |= R & _part_mask(part, M.shape)
-        if _topology(mine) != (1, len(holes)) and _topology(mine)[0] != 0:
-            own = _part_mask(part, M.shape) & movable
+        own = _part_pixels(part, parts_lab)
+        mine |= R & own
+        topo = _topology(mine[_box_of(mine)]) if mine.any() else (0, 0)
+        if topo != (1, len(holes)) and topo[0] != 0:
+            own &= movable
             inside |= own[ii, jj]
             kept_own = True
             continue

@@ -188,6 +188,38 @@ def test_supersample_must_be_odd_and_whole(bad):
         crosscheck(box(0, 0, 4, 4), 1.0, pixel_size=0.1, supersample=bad)
 
 
+def test_a_mask_too_large_to_supersample_falls_back_to_plain_morphology(monkeypatch):
+    # The limit is lowered so that the test allocates nothing large: the 99 × 120 mask (11,880 px) is over
+    # a limit of 10,000, so the morphology runs on the 3 × 3 blocks' centres, exactly as if the mask had been
+    # sampled there by hand and tightened plainly, and the warning gives the limit.
+    import raster
+    import raster.flow
+
+    monkeypatch.setattr(raster.flow, "MAX_SUPERSAMPLED_PIXELS", 10_000)
+    yy, xx = np.mgrid[:99, :120]
+    M = ((xx - 40) ** 2 + (yy - 50) ** 2 < 30 ** 2) | ((abs(xx - 85) < 25) & (abs(yy - 50) < 4))
+    with pytest.warns(raster.SupersampleWarning, match="limit 10,000 pixels"):
+        T = raster.tighten(M, 15.0, supersample=3)
+    plain = raster.tighten(M[1::3, 1::3], 5.0)
+    assert T.mask.shape == (33, 40) and T.r == pytest.approx(5.0)
+    assert (T.mask == plain.mask).all() and (T.core == plain.core).all() and (T.fillet == plain.fillet).all()
+    assert (T.core <= T.mask).all() and (T.mask <= T.fillet).all()
+
+
+def test_crosscheck_too_fine_to_supersample_warns_and_runs_plain(monkeypatch):
+    import raster
+    import raster.flow
+
+    S = box(0, 0, 10, 10)
+    grid_px = crosscheck(S, 2.0, pixel_size=0.1, supersample=1).grid.shape
+    limit = grid_px[0] * grid_px[1] * 9 - 1             # supersample 3 would be one pixel over
+    monkeypatch.setattr(raster.flow, "MAX_SUPERSAMPLED_PIXELS", limit)
+    with pytest.warns(raster.SupersampleWarning, match=f"limit of {limit:,}"):
+        c = crosscheck(S, 2.0, pixel_size=0.1, supersample=3)
+    assert c.supersample == 1 and c.raster.mask.shape == grid_px
+    assert c.agree
+
+
 def _two_disks(gap: float, angle_deg: float, radius: float = 1.5) -> shapely.Geometry:
     t = math.radians(angle_deg)
     d = 2 * radius + gap

@@ -28,6 +28,27 @@ def test_a_bar_just_under_2r_is_a_rasterisation_no_grid_resolves():
     assert any("pixel input agrees" in e and "100%" in e for e in found[0].evidence)
 
 
+def test_a_slanted_bar_2r_wide_is_a_rasterisation_where_the_mask_decides_otherwise():
+    # 2.004 wide at r = 1, slanted 7°: exactly the whole bar is core. Its mask's staircase holds a disk of
+    # radius r only here and there, and the pixel morphology (disk centres on pixel centres and corners)
+    # finds fewer of them than the exact engine on the mask's squares, so the pixel input's own exact
+    # tightening is no witness. S shrunk by ½ pixel diagonal, 1.86 wide, loses the bar as the pixel
+    # result does: the rasterisation decides, and the evidence gives the width against 2r.
+    from shapely import affinity
+
+    S = affinity.rotate(box(0, -1.002, 12, 1.002), 7, origin=(0, 0))
+    c = crosscheck(S, 1.0, pixel_size=0.1, supersample=1)
+    assert c.vector_topology == (1, 0) and not c.agree
+    found = c.explain()
+    assert found and {d.kind for d in found} == {"rasterisation (not resolvable)"}
+    witness = [d for d in found if any("decides it otherwise" in e for e in d.evidence)]
+    assert witness, c.explain_text(found)
+    for d in witness:
+        assert any("agrees with the pixel result on 100%" in e for e in d.evidence)
+        width = [e for e in d.evidence if e.startswith("width:")]
+        assert width and "a stroke of S 2.00" in width[0] and "2r = 2;" in width[0] and "pixel 0.1" in width[0]
+
+
 def test_a_flow_stopped_after_two_steps_is_unconverged():
     # From the input, a square at r = 3 must cut its corners by 1.2 (12 px); two steps move the front
     # two pixels at most.

@@ -36,10 +36,12 @@ class Disagreement:
     kind : str
         One of `KINDS`: ``"defect of the pixel side"`` (the pixel result breaks core ⊆ T ⊆ F here, or has
         a component holding no core or a hole holding no anticore: a tight loop around nothing of them
-        could still shrink); ``"rasterisation (not resolvable)"`` (the exact tightening of the pixel
-        input agrees with the pixel result here, and so does the exact tightening of S moved by the
-        rasterisation's own error, half a pixel diagonal: no pixel method can decide this region at this
-        pixel size); ``"defect of the exact side"`` (the exact result's `verify` reports violations; tried
+        could still shrink); ``"rasterisation (not resolvable)"`` (the exact tightening of S moved by
+        the rasterisation's own error, half a pixel diagonal, agrees with the pixel result here, and
+        usually so does the exact tightening of the pixel input: no pixel method can decide this region at
+        this pixel size; the evidence gives the stroke or gap width of S there against 2r, and the pixel
+        sizes. Where S is about 2r wide the pixel input's exact tightening may differ from both, since
+        the pixel morphology tries disk centres only on the fine grid); ``"defect of the exact side"`` (the exact result's `verify` reports violations; tried
         before the rasterisation, since the exact tightening of the pixel input, right, would agree with
         the pixel result there too); ``"rasterisation (resolvable)"`` (the exact tightening of the pixel
         input agrees with the pixel result, S moved by half a pixel diagonal does not: a finer grid
@@ -312,10 +314,13 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
         Rasterise S this many times finer (pixels of side ``pixel_size / supersample``, in S's units) and
         let `raster.tighten` compute its core, fillet and start, and their signed distances, there (its
         ``supersample``); the flow and the comparison stay on the grid of ``pixel_size``. The default, 5,
-        agrees best: on the project's 16 benchmark shapes at ``r / 20`` the two agree in 16/16 cases for
-        both ``init="core"`` and ``init="input"`` (3: 15/16, 1: 13/16), at about five times the time of
-        a plain rasterisation (3: about twice), nearly all of it the morphology on the fine grid. 1 is the
-        paper's method on a plain rasterisation, `raster.tighten`'s own default. With
+        is the measured choice (`benchmarks/crosscheck_supersample.py`, five corpus shapes at ``r / 20``,
+        in ``benchmarks/results/crosscheck_corpus.md``): plain morphology (1) misses the 2 px bar on a
+        country outline (4.15 px), 3 agrees on all five but leaves that one at 1.73 px, 5 at 0.88 px and
+        the median at 0.51 px (1: 1.13, 3: 0.55); the pixel side then takes 4.6 to 21 times as long as
+        with 1 (3: 3.1 to 6.6), nearly all of it the morphology on the fine grid. 1 is the paper's
+        method on a plain rasterisation, `raster.tighten`'s own default (a mask has no finer version).
+        A fine grid over `raster.MAX_SUPERSAMPLED_PIXELS` falls back to 1 with a warning. With
         ``mask_reference`` the reference is the union of the fine mask's squares.
 
     Returns
@@ -326,8 +331,14 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
     ------
     ValueError
         If ``pixel_size`` or ``r`` is not a positive finite number, ``supersample`` is not an odd whole
-        number ≥ 1, the grid would exceed 60 million pixels or the fine grid 200 million (use a larger
-        ``pixel_size`` or a smaller ``supersample``), or no pixel centre falls inside S.
+        number ≥ 1, the grid would exceed 60 million pixels (use a larger ``pixel_size``), or no pixel
+        centre falls inside S.
+
+    Warns
+    -----
+    raster.SupersampleWarning
+        If the fine grid would exceed `raster.MAX_SUPERSAMPLED_PIXELS` (50 million pixels, about 3.5 GB
+        of morphology): the check then runs with ``supersample=1`` (plain morphology) and says so.
 
     Examples
     --------
@@ -351,11 +362,18 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
     if isinstance(supersample, bool) or not isinstance(supersample, (int, np.integer)) or supersample < 1 \
             or supersample % 2 == 0:
         raise ValueError(f"supersample must be an odd whole number ≥ 1, got {supersample!r}")
+    n_fine = grid.shape[0] * grid.shape[1] * supersample * supersample
+    limit = raster.flow.MAX_SUPERSAMPLED_PIXELS
+    if supersample > 1 and n_fine > limit:
+        import warnings
+
+        warnings.warn(f"crosscheck: supersample {supersample} would make a grid of {n_fine:,} pixels, over the "
+                      f"limit of {limit:,} for supersampled morphology "
+                      f"(raster.MAX_SUPERSAMPLED_PIXELS); using plain morphology (supersample 1)",
+                      raster.SupersampleWarning, stacklevel=2)
+        supersample = 1
     fine = raster.Grid(grid.x0, grid.y_top, pixel_size / supersample,
                        (grid.shape[0] * supersample, grid.shape[1] * supersample))
-    if fine.shape[0] * fine.shape[1] > 200_000_000:
-        raise ValueError(f"supersample {supersample} makes a grid of {fine.shape[1]} × {fine.shape[0]} pixels; "
-                         f"use a smaller one")
     T = tighten(S, r, init=init)
     mask, _ = raster.rasterize(S, fine)
     if not mask.any():
@@ -450,6 +468,23 @@ def _explain(check: CrossCheck) -> list[Disagreement]:
             lazy["verify"] = T.verify()
         return lazy["verify"]
 
+    def width() -> str:
+        # How wide S is where the region lies (its pixel centres' largest distance to ∂S, inside and
+        # outside S: half the widest stroke or gap there), against 2r, and the pixel sizes.
+        rows_, cols_ = np.nonzero(region_full)
+        pts = shapely.points(grid.x0 + (cols_ + 0.5) * h, grid.y_top - (rows_ + 0.5) * h)
+        inside_s = shapely.contains(T.shape, pts)
+        dist = shapely.distance(T.shape.boundary, pts)
+        # The centres come within ½ pixel diagonal of the widest point: the width lies in [2d, 2d + h√2].
+        parts_ = []
+        for sel, what in ((inside_s, "a stroke"), (~inside_s, "a gap")):
+            if sel.any():
+                w0 = 2 * float(dist[sel].max())
+                parts_.append(f"{what} of S {w0:.4g} to {w0 + h * math.sqrt(2):.4g} wide")
+        return (f"width: the region lies in {' and '.join(parts_)}, against 2r = {2 * check.r:.4g}; pixel "
+                f"{h:.4g}, morphology pixel {h / check.supersample:.4g} (½ diagonal "
+                f"{h / check.supersample * math.sqrt(0.5):.3g})")
+
     # A mask samples each boundary at the pixel centres, so a region of depth d holds boundary points up to
     # d + ½ px apart (and as little as d − ½): when the check does not agree, look from AGREE_PX − 1 on.
     allowance = AGREE_PX if check.agree else AGREE_PX - 1.0
@@ -520,6 +555,23 @@ def _explain(check: CrossCheck) -> list[Disagreement]:
             ev.append(f"S moved by ∓½ pixel diagonal: its exact tightening agrees with the pixel result on "
                       f"{100 * shares[0]:.0f}% / {100 * shares[1]:.0f}% of the region")
             d.kind = "rasterisation (not resolvable)" if max(shares) >= 0.5 else "rasterisation (resolvable)"
+            ev.append(width())
+            ev.append(rest)
+            out.append(d)
+            continue
+        # The pixel morphology tries disk centres only at the fine pixels' centres and corners, the exact
+        # engine anywhere: where S is about 2r wide, the exact tightening of the mask's squares may keep a
+        # disk the pixel core cannot hold (or lose one), and the share above says nothing. What decides is
+        # whether moving S by the rasterisation's own error changes the exact answer to the pixel one.
+        shares = [float((tm[win] == pm[win])[region].mean()) for tm in moved()]
+        ev.append(f"S moved by ∓½ pixel diagonal: its exact tightening agrees with the pixel result on "
+                  f"{100 * shares[0]:.0f}% / {100 * shares[1]:.0f}% of the region")
+        if max(shares) >= 0.5:
+            d.kind = "rasterisation (not resolvable)"
+            ev.append(width())
+            ev.append("the exact answer here changes when S moves by the rasterisation's own error, so no "
+                      "pixel method at this pixel size can decide it (the exact tightening of the mask, another "
+                      "rasterisation, decides it otherwise)")
             ev.append(rest)
             out.append(d)
             continue
