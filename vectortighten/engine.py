@@ -41,7 +41,7 @@ from ._proximity import EdgeIndex, PointIndex
 from ._guard import guarded_tighten
 from ._validation import check_output_size, check_radius, check_resolution, check_shape, check_tolerance, \
     quad_segs_for
-from .centers import ArcCenters, _search_window, boundary_edges, exact_centers, missing_lines, snap_onto
+from .centers import ArcCenters, boundary_edges, exact_centers, missing_lines, snap_onto, snap_window
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
@@ -123,8 +123,8 @@ class _Context:
         E, G = (_m._orient(P) for P in _m._offsets(S, r, self.q_exact))
         # Every convex vertex of GEOS's shrink (reflex vertex of its grow) stands for a corner of the exact
         # offsets, off by up to GEOS's simplification (about r/100, more beside near-tangent necks): each
-        # is moved onto the nearest exact corner within GUIDE_MISSING_R·r.
-        window = max(_search_window(S, r, self.q_exact)[0], GUIDE_MISSING_R * r)
+        # is moved onto the nearest exact corner within `centers.snap_window` (GUIDE_MISSING_R·r at least).
+        window = snap_window(S, r, self.q_exact)
         self.E = snap_onto(E, self.centers.xy[self.centers.side == 1], 1, window)
         self.G = snap_onto(G, self.centers.xy[self.centers.side == -1], -1, window)
         self.cxy, self.cside = _distinct_centers(self.centers.xy, self.centers.side.astype(np.int64), r)
