@@ -3,8 +3,10 @@
 The convex arcs of ``∂R_r(S)`` are centred at the convex vertices of ``S↓r``; the concave arcs of
 ``∂F_r(S)`` at the reflex vertices of ``S↑r``. Each such centre is a medial-axis point of clearance exactly
 r: at distance r from two boundary features of S (an edge's line or a vertex). Shapely's buffers place
-these vertices only approximately (chords replace arcs); here each is recomputed as the exact solution of
-"distance r from feature A and from feature B" (line–line, line–point or point–point).
+these vertices only approximately (chords replace arcs, and GEOS simplifies its input by up to about
+r/100); the exact centres are the corners of S's exact offsets (`offsets.exact_offsets`, from S's edges
+alone), and every buffered shrink or grow used here, the public ones and the engine's guide alike, has
+its corner vertices moved onto them by one rule (`snap_onto` within `snap_window`).
 """
 
 from __future__ import annotations
