@@ -164,3 +164,29 @@ def test_morphology_keeps_parts_and_gaps_exactly_2r_wide(angle):
     assert len(shapely.get_parts(vt.fillet(gap, r))) == 2
     for init in ("core", "input"):
         assert vt.tighten(gap, r, init=init).n_components == 2, init
+
+
+def _fast_two_boxes():
+    S = box(0, 0, 10, 6).union(box(20, 0, 28, 6))
+    T = vt.tighten(S, 1.0)
+    assert T._cache["_path"] == "fast"
+    return T
+
+
+def test_verify_on_the_fast_path_decides_a_on_the_exact_offsets():
+    # verify()'s (a) on a fast-path result: every piece of S↓r inside T, every piece of the anticore's
+    # centres outside, and T the loops' own region. A clean result passes; dropping a part of T (a core
+    # component missing), adding a box of anticore, or moving a sampled vertex are each reported.
+    T = _fast_two_boxes()
+    assert T.verify() == []
+    good = T.geometry
+    T.geometry = max(good.geoms, key=lambda g: g.area)
+    assert any(p.startswith("(a) the tightening misses") for p in T.verify())
+    T.geometry = good.union(box(12, 2, 16, 4))
+    assert any(p.startswith("(a) the geometry differs") for p in T.verify())
+    T.geometry = good.union(box(10.5, 2, 19.5, 4))     # a bridge over the anticore's centres x = 11, 19
+    assert any(p.startswith("(a) the tightening covers") for p in T.verify())
+    ring = np.asarray(max(good.geoms, key=lambda g: g.area).exterior.coords)
+    ring[[0, -1]] += 0.05                          # a corner vertex moved 0.07 into its part
+    T.geometry = Polygon(ring).union(min(good.geoms, key=lambda g: g.area))
+    assert any(p.startswith("(a) the geometry differs") for p in T.verify())

@@ -93,22 +93,31 @@ def _exact(S: Polygonal, r: float, side: int):
     return exact_offsets(_orient(S), r, side)
 
 
-def _grow(S: Polygonal, r: float, q: int) -> Polygonal:
-    """``S↑r`` with its reflex vertices moved onto the exact arc centres (see `arc_centers`)."""
-    from .centers import snap_to_centers
+def _grow(S: Polygonal, r: float, q: int, exact=None) -> Polygonal:
+    """``S↑r`` with its reflex vertices moved onto the exact corners of S's exact offsets (side −1).
 
-    return snap_to_centers(_grow_raw(S, r, q), S, r, q, -1)
+    ``exact``: `_exact(S, r, -1)` if already computed. The rule is the engine's guide's
+    (`centers.snap_onto`): each reflex vertex of GEOS's grow within `centers.snap_window` of an exact
+    corner is moved onto the nearest one.
+    """
+    from .centers import snap_onto, snap_window
+
+    X = _exact(S, r, -1) if exact is None else exact
+    return snap_onto(_grow_raw(S, r, q), X.corners, -1, snap_window(S, r, q))
 
 
-def _shrink(S: Polygonal, r: float, q: int) -> Polygonal:
-    """``S↓r`` with its convex vertices moved onto the exact arc centres (see `arc_centers`).
+def _shrink(S: Polygonal, r: float, q: int, exact=None) -> Polygonal:
+    """``S↓r`` with its convex vertices moved onto the exact corners of S's exact offsets (side +1).
 
     GEOS simplifies a buffer's input, which can cut a corner that has a vertex within a hundredth of r
-    next to it (the offset corner then lands up to ~r/100 off); the exact centres put it back.
+    next to it (the offset corner then lands up to ~r/100 off); the exact corners (`offsets.exact_offsets`,
+    from S's own edges) put it back, by the rule of the engine's guide (`centers.snap_onto`).
+    ``exact``: `_exact(S, r, 1)` if already computed.
     """
-    from .centers import snap_to_centers
+    from .centers import snap_onto, snap_window
 
-    return snap_to_centers(_shrink_raw(S, r, q), S, r, q, 1)
+    X = _exact(S, r, 1) if exact is None else exact
+    return snap_onto(_shrink_raw(S, r, q), X.corners, 1, snap_window(S, r, q))
 
 
 # GEOS offsets a ring in one piece and nodes the raw offset curve against itself. On a jagged outline (a
@@ -293,11 +302,14 @@ def _core(S: Polygonal, r: float, q: int, centres: bool = True, exact=None) -> P
     ``exact``: S's exact shrink (`_exact(S, r, 1)`) if already computed."""
     from .centers import missing_lines
 
-    E = _shrink(S, r, q) if centres else _shrink_raw(S, r, q)
+    if centres:
+        exact = _exact(S, r, 1) if exact is None else exact
+        E = _shrink(S, r, q, exact)
+    else:
+        E = _shrink_raw(S, r, q)
     R = _grow_raw(E, r, q) if not E.is_empty else Polygon()
     if centres:
-        extra = missing_lines(_exact(S, r, 1) if exact is None else exact, E, r, GUIDE_MISSING_R,
-                              np.pi / (2 * q))
+        extra = missing_lines(exact, E, r, GUIDE_MISSING_R, np.pi / (2 * q))
         if extra is not None:
             R = shapely.union(R, extra.buffer(r, quad_segs=q))
     if R.is_empty:
@@ -312,11 +324,14 @@ def _fillet(S: Polygonal, r: float, q: int, centres: bool = True, exact=None) ->
     ``centres=False``, GEOS's grow as it is. ``exact``: `_exact(S, r, -1)` if already computed."""
     from .centers import missing_lines
 
-    G = _grow(S, r, q) if centres else _grow_raw(S, r, q)
+    if centres:
+        exact = _exact(S, r, -1) if exact is None else exact
+        G = _grow(S, r, q, exact)
+    else:
+        G = _grow_raw(S, r, q)
     F = shapely.union(_shrink_raw(G, r, q), S)
     if centres:
-        extra = missing_lines(_exact(S, r, -1) if exact is None else exact, G, r, GUIDE_MISSING_R,
-                              np.pi / (2 * q))
+        extra = missing_lines(exact, G, r, GUIDE_MISSING_R, np.pi / (2 * q))
         if extra is not None:
             F = shapely.difference(F, shapely.difference(extra.buffer(r, quad_segs=q), S))
     return _orient(_nudge(_polygonal(F), S, into=False))

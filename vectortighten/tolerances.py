@@ -65,8 +65,9 @@ PENETRATION_R = 4e-6
 #: that its zero-width parts, where the boundary of the shape is left unchanged, have room for a path.
 THICKEN_R = 2e-4
 
-#: Half-width of the band, as a fraction of r (on top of the chord error), in which the boundary features
-#: that define an arc centre are looked for around a vertex of a buffered polygon.
+#: A vertex of a buffered shrink or grow within this fraction of r (on top of four chord sags) of a corner
+#: of S's exact offsets is moved onto it (`centers.snap_window`, which also takes GUIDE_MISSING_R·r at
+#: least: GEOS simplifies its input by up to about r/100).
 CENTER_SEARCH_R = 1e-4
 
 #: Chord error, as a fraction of r, of the core and fillet from which the free space (the mortar thickened
