@@ -47,9 +47,20 @@ tightening for init "input".
 *Tight already (init "core").* The flow starts from ∂R. If moreover every piece is pinned on +1 (so
 R = S, by the identity argument on that side), ∂R = ∂S, which is tight by the previous paragraph.
 
-Init "mason" is certified only in the identity case. In every other case the arcs are flattened (the
-answer is not S, and the engine's exact centres are solved on segments and points only: item 3 of issue
-22, not done yet).
+*Tight, other inits (not exact: matched).* When ∂S is tight (the "input" criterion) but neither of
+the above holds — a tightening with a neck narrower than 2r, fed back in with init "core" or "mason" —
+S is exactly *a* tightening of itself, but whether the flow from R_r(S) or Mason(S) picks it is not
+decided in closed form. The shape is then flattened (chords within 1e-5·r) and tightened by the polygon
+engine; if that result has S's numbers of components and holes and differs from S by less than
+1e-3·r·perimeter and a quarter of an r-disk in area, S is returned with its own pieces (path
+``"matched"``). The reasoning: the tight loops of one homotopy class are unique (a planar domain is
+non-positively curved in its length metric), and two tightenings of different classes differ by a
+whole component of the core or anticore, which holds an r-disk; so a result that close to S is in
+S's class. What is not proved is that the flow on the flattened shape picks the class the flow on S
+would (it may not where a part of S is within rounding of 2r wide).
+
+Otherwise the arcs are flattened and the polygon engine's result is returned, with a `FlattenWarning`:
+the engine's exact centres are solved on segments and points only (item 3 of issue 22, not done yet).
 
 Precision: clearance is compared with r − ε, ε = max(1e-13·size, 64 ulps of the coordinates) (the closed
 rule of `curved_offsets`): a tightening fed back in, whose arcs have radius r exactly and are tangent to
@@ -295,8 +306,10 @@ def tighten_loops(S, r: float, init="core", tolerance: float | None = None):
     -------
     Tightening
         The shape itself, with its own pieces (arcs of one circle merged, `merge_arcs`), when `identity`
-        certifies that it is its own tightening; else the tightening of the polygon the loops make with
-        their arcs flattened within `FLATTEN_R`·r, with a `FlattenWarning` when there were arcs.
+        certifies that it is its own tightening, or when it is tight and the polygon engine on it
+        flattened comes back to it (``"matched"``, see the module notes); else the tightening of the
+        polygon the loops make with their arcs flattened within `FLATTEN_R`·r, with a `FlattenWarning`
+        when there were arcs. ``T._cache["_path"]`` says which (``"identity"``, ``"matched"``).
 
     Examples
     --------
@@ -324,14 +337,36 @@ def tighten_loops(S, r: float, init="core", tolerance: float | None = None):
         T = LoopTightening(loops=loops, geometry=shape, r=r, init=init, tolerance=tolerance, shape=shape)
         T._cache["_path"] = "identity"
         return T
+    flat = check_shape(region(loops, FLATTEN_R * r))
+    U = tighten(flat, r, init=init, tolerance=tolerance)
+    if init != "input" and identity(loops, r, "input") and _matches(U, shape, loops, r):
+        # S is exactly a tightening of itself, and the flow from this init picks its homotopy class.
+        T = LoopTightening(loops=loops, geometry=shape, r=r, init=init, tolerance=tolerance, shape=shape)
+        T._cache["_path"] = "matched"
+        return T
     arcs = sum(len(lp.arcs) for lp in loops)
     if arcs:
         warnings.warn(f"the shape's {arcs} arc{'s are' if arcs != 1 else ' is'} flattened to chords within "
                       f"{FLATTEN_R:g}·r before tightening: the result's arcs all have radius r, the input's "
                       "own radii are not kept (exact arc features are not implemented beyond the case where "
                       "the shape is its own tightening)", FlattenWarning, stacklevel=3)
-    flat = region(loops, FLATTEN_R * r)
-    return tighten(check_shape(flat), r, init=init, tolerance=tolerance)
+    return U
+
+
+def _matches(U, shape, loops, r: float) -> bool:
+    """Whether the tightening U of the flattened shape is the shape itself, up to the flattening.
+
+    Same numbers of components and holes, and a symmetric difference smaller than ``1e-3·r`` times the
+    perimeter (a hundred times what chords within 1e-5·r account for) and than a quarter of an r-disk:
+    two tightenings of one shape in different homotopy classes differ by a whole component of the core
+    or the anticore, which holds an r-disk.
+    """
+    if U.is_empty:
+        return False
+    if U.n_components != sum(1 for lp in loops if lp.area > 0) or U.n_holes != sum(1 for lp in loops if lp.area < 0):
+        return False
+    limit = min(1e-3 * r * math.fsum(lp.length for lp in loops), 0.25 * math.pi * r * r)
+    return float(U.geometry.symmetric_difference(shape).area) <= limit
 
 
 class LoopTightening(Tightening):
