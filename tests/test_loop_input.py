@@ -2,12 +2,15 @@
 
 import math
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from PIL import Image
 from shapely.geometry import Point, Polygon, box
 
 from vectortighten import tighten
+from vectortighten.cli import main
 from vectortighten.curves import Arc, Loop, Segment
 from vectortighten.errors import InvalidGeometryError
 from vectortighten.io import read_loops, write_result
@@ -226,3 +229,24 @@ def test_idempotence(S, f, init):
     assert same_pieces(U, T)
     assert U.area == pytest.approx(T.area, rel=1e-12)
     assert U.perimeter == pytest.approx(T.perimeter, rel=1e-12)
+
+
+# -- command line ---------------------------------------------------------------------------------------
+def test_cli_exact_arcs_keeps_the_hole(tmp_path, capsys):
+    src = tmp_path / "plate.dxf"
+    write_result(tighten(plate(), 3.0), src)
+    out = tmp_path / "out.svg"
+    assert main(["tighten", str(src), "-r", "3", "-o", str(out), "--exact-arcs"]) == 0
+    assert_one_arc(the_hole(read_loops(out)), (0.0, 0.0), 4.0)
+    # Without the option the hole is flattened first: its tight loop is made of arcs of radius r.
+    flat = tmp_path / "flat.svg"
+    assert main(["tighten", str(src), "-r", "3", "-o", str(flat)]) == 0
+    assert len(the_hole(read_loops(flat))) > 1
+
+
+def test_cli_exact_arcs_refused_for_images(tmp_path, capsys):
+    img = tmp_path / "m.png"
+    Image.fromarray(np.pad(np.full((20, 20), 255, np.uint8), 5)).save(img)
+    assert main(["tighten", str(img), "-r", "3", "-o", str(tmp_path / "o.png"), "--exact-arcs"]) == 2
+    err = capsys.readouterr().err
+    assert "--exact-arcs applies to SVG, DXF and WKT input only" in err and "Traceback" not in err

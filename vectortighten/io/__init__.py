@@ -65,6 +65,7 @@ __all__ = [
     "load_svg",
     "read_dxf",
     "read_features",
+    "loops_of",
     "read_loops",
     "read_mask",
     "read_shape",
@@ -379,31 +380,27 @@ def read_loops(path, *, format: str | None = None, **options) -> list:
     >>> [(a.center, a.radius) for a in hole.pieces]        # y flipped: SVG's y points down
     [((10.0, -10.0), 4.0)]
     """
+    return loops_of(read_source(path, format=format, **options), str(path))
+
+
+def loops_of(source: Source, name: str = "the input") -> list:
+    """The exact boundary of a `Source` as `Loop`s, as `read_loops` gives it (``name`` for messages)."""
+    import shapely
+
+    from vectortighten.curves import Loop
     from vectortighten.errors import InvalidGeometryError
     from vectortighten.loop_input import merge_arcs
 
-    source = read_source(path, format=format, **options)
     loops = source.loops
     if loops is None:
-        if source.meta.get("format") in ("svg", "dxf") or not source.shape.is_valid:
-            raise InvalidGeometryError(f"{path}: the outlines do not make one valid boundary (they cross, "
+        if source.meta.get("format") in ("svg", "dxf") or not source.shape.is_valid or source.shape.is_empty:
+            raise InvalidGeometryError(f"{name}: the outlines do not make one valid boundary (they cross, "
                                        "touch or are painted over each other); read_shape unites them")
-        from vectortighten.curves import Loop, Segment
-
         loops = []
         for poly in getattr(source.shape, "geoms", [source.shape]):
-            poly = _orient(poly)
-            for k, ring in enumerate([poly.exterior, *poly.interiors]):
-                xy = list(ring.coords)
-                loops.append(Loop([Segment(xy[i], xy[i + 1]) for i in range(len(xy) - 1)
-                                   if xy[i] != xy[i + 1]]))
+            poly = shapely.orient_polygons(poly, exterior_cw=False)
+            loops += [Loop.from_polygon_ring(ring.coords) for ring in [poly.exterior, *poly.interiors]]
     return [merge_arcs(lp) for lp in loops]
-
-
-def _orient(poly):
-    import shapely
-
-    return shapely.orient_polygons(poly, exterior_cw=False)
 
 
 def read_shape(path, *, flatten: float | None = None, format: str | None = None,
