@@ -295,8 +295,7 @@ def _offset_parts(loops, r: float, side: int):
     dist = _point_feature_distance(farc, fdat, fp0, fp1, qf, mid[qi])
     clear = np.ones(len(mid), dtype=bool)
     np.logical_and.at(clear, qi, dist >= r - eps)
-    tol = max(eps, 1e-9 * size)
-    inside = shapely.contains_xy(_sampled(loops, tol), mid[:, 0], mid[:, 1])
+    inside = _inside(loops, mid, r)
     keep = clear & (inside if side > 0 else ~inside)
     pe2, lo, hi = pe2[keep], lo[keep], hi[keep]
     # Merge consecutive kept parts of one element.
@@ -315,6 +314,20 @@ def _points(arc, data, e, t):
     on_arc = d[:, :2] + d[:, 2:3] * np.column_stack([np.cos(ang), np.sin(ang)])
     on_seg = d[:, :2] + t[:, None] * (d[:, 2:4] - d[:, :2])
     return np.where(arc[e][:, None], on_arc, on_seg)
+
+
+def _inside(loops, xy: np.ndarray, r: float) -> np.ndarray:
+    """Whether each point is inside S, for points at clearance ≥ r − ε from ∂S (the only ones asked).
+
+    Each loop is sampled with chords within r/100 of it, so such a point is on the same side of the
+    chords as of the curve; inside S when an odd number of loops enclose it (the loops are disjoint).
+    """
+    count = np.zeros(len(xy), dtype=np.int64)
+    if len(xy) == 0:
+        return count.astype(bool)
+    for lp in loops:
+        count += shapely.contains_xy(Polygon(lp.sample(0.01 * r)), xy[:, 0], xy[:, 1])
+    return count % 2 == 1
 
 
 def _sampled(loops, tol: float):

@@ -175,11 +175,6 @@ def as_loops(S) -> list[Loop]:
     return loops
 
 
-def _size(loops) -> float:
-    b = np.array([lp.bounds for lp in loops])
-    return float(max(b[:, 2].max() - b[:, 0].min(), b[:, 3].max() - b[:, 1].min()))
-
-
 def region(loops, tolerance: float):
     """The shapely region bounded by the loops, arcs sampled within ``tolerance``; validity checked.
 
@@ -205,7 +200,7 @@ def _pinned(loops, r: float, side: int) -> tuple[np.ndarray, bool]:
     """Per feature (pieces of the loops in `curved_offsets._features` order): whether it is pinned on
     ``side`` (its offset element kept whole, see the module notes); and whether every vertex element (an
     arc about a join turning away from the side) is kept whole."""
-    from .curved_offsets import _offset_parts, _point_feature_distance, _sampled
+    from .curved_offsets import _inside, _offset_parts, _point_feature_distance
 
     o = _offset_parts(loops, r, side)
     nf = len(o.farc)
@@ -225,7 +220,7 @@ def _pinned(loops, r: float, side: int) -> tuple[np.ndarray, bool]:
         dist = _point_feature_distance(o.farc, o.fdat, o.fp0, o.fp1, qf, c[qi])
         clear = np.ones(len(c), dtype=bool)
         np.logical_and.at(clear, qi, dist >= r - o.eps)
-        inside = shapely.contains_xy(_sampled(loops, max(o.eps, 1e-9 * _size(loops))), c[:, 0], c[:, 1])
+        inside = _inside(loops, c, r)
         pinned[o.collapsed] = clear & (inside if side > 0 else ~inside)
     pinned[o.too_curved] = False
     return pinned, bool(whole[~own].all())
