@@ -156,17 +156,68 @@ def test_a_disk_of_radius_at_least_r_is_its_own_tightening():
         assert_one_arc(T.loops[0], (5.0, 5.0), rho)
 
 
-def test_sharp_corners_are_not_certified_and_flatten_with_a_warning():
+# -- corners filleted, arcs of S kept (arc_fillets) -----------------------------------------------------
+@pytest.mark.parametrize("init", INITS)
+def test_sharp_plate_with_a_round_hole_keeps_the_hole_and_fillets_the_corners(init):
     S = [square(10.0), Loop.circle((0.0, 0.0), 4.0, ccw=False)]
-    assert not identity(S, 3.0, "input")
+    assert not identity(S, 3.0, init)
+    T = tighten(S, 3.0, init=init)
+    assert T._cache["_path"] == "arc-fillets"
+    assert_one_arc(the_hole(T.loops), (0.0, 0.0), 4.0)
+    [outer] = [lp for lp in T.loops if lp.area > 0]
+    centres = np.array(sorted(a.center for a in outer.arcs))
+    assert np.abs(centres - [(-7, -7), (-7, 7), (7, -7), (7, 7)]).max() <= 1e-12
+    # Corner formula, θ = π/2: each corner loses 2r·tan(θ/2) − rθ of perimeter and r²(tan(θ/2) − θ/2) of area.
+    assert T.perimeter == pytest.approx(80 - 4 * (6 - 1.5 * math.pi) + 8 * math.pi, rel=1e-14)
+    assert T.area == pytest.approx(400 - 4 * 9 * (1 - math.pi / 4) - 16 * math.pi, rel=1e-14)
+    assert outer.is_g1(1e-12)
+    assert T.verify() == []
+
+
+def test_fillets_between_a_segment_and_an_arc_are_solved_in_closed_form():
+    # A half disk of radius 5 at r = 1: each fillet is centred on the line y = 1 and the circle of radius 4.
+    D = Loop([Segment((-5, 0), (5, 0)), Arc((0, 0), 5.0, 0.0, math.pi)])
+    T = tighten([D], 1.0)
+    assert T._cache["_path"] == "arc-fillets"
+    small = np.array(sorted(a.center for a in T.loops[0].arcs if a.radius == 1.0))
+    assert np.abs(small - [(-math.sqrt(15), 1.0), (math.sqrt(15), 1.0)]).max() <= 1e-12
+    a = math.atan2(1, math.sqrt(15))
+    assert T.perimeter == pytest.approx(5 * (math.pi - 2 * a) + 2 * math.sqrt(15) + 2 * (a + math.pi / 2), rel=1e-14)
+    assert [x.radius for x in T.loops[0].arcs].count(5.0) == 1 and T.verify() == []
+
+
+def test_a_slot_with_round_ends_in_a_sharp_plate_is_kept():
+    slot = Loop([Segment((-4, -2), (4, -2)), Arc((4, 0), 2.0, -math.pi / 2, math.pi),
+                 Segment((4, 2), (-4, 2)), Arc((-4, 0), 2.0, math.pi / 2, math.pi)]).reversed()
+    T = tighten([square(10.0), slot], 1.5)
+    assert T._cache["_path"] == "arc-fillets"
+    assert the_hole(T.loops).pieces == slot.pieces
+    assert T.verify() == []
+
+
+def test_reflex_corner_beside_a_round_hole_gains_the_corner_area():
+    L = Loop.from_polygon_ring([(0, 0), (20, 0), (20, 8), (8, 8), (8, 20), (0, 20)])
+    T = tighten([L, Loop.circle((4.0, 4.0), 2.0, ccw=False)], 1.0)
+    assert T._cache["_path"] == "arc-fillets"
+    # Five convex corners lose r²(1 − π/4) each, the reflex one gains as much; the hole stays.
+    assert T.area == pytest.approx(256 - 4 * math.pi - 4 * (1 - math.pi / 4), rel=1e-14)
+    assert_one_arc(the_hole(T.loops), (4.0, 4.0), 2.0)
+    assert any(a.sweep < 0 and a.radius == 1.0 for lp in T.loops for a in lp.arcs)
+
+
+def test_a_wall_thinner_than_2r_is_not_filleted_exactly():
+    # The hole comes within 1 of the edge at r = 1: a part thinner than 2r, not isolated corners.
+    S = [square(10.0), Loop.circle((5.0, 0.0), 4.0, ccw=False)]
     with pytest.warns(FlattenWarning):
-        T = tighten(S, 3.0)
-    # Corners filleted by the corner formula (θ = π/2). The hole (ρ = 4 > r) comes back as a tight loop
-    # around its chords (sag 1e-5·r), inside the annulus 4 − sag ≤ ρ ≤ 4: its length within 2π·sag of 8π.
-    want = 80 - 4 * (2 * 3.0 - 3.0 * math.pi / 2) + 8 * math.pi
-    assert abs(T.perimeter - want) <= 2 * math.pi * 1e-5 * 3.0
-    assert T.perimeter < want
-    assert all(abs(a.radius - 3.0) < 1e-12 for lp in T.loops for a in lp.arcs)
+        T = tighten(S, 1.0)
+    assert T._cache.get("_path") not in ("identity", "arc-fillets", "matched")
+
+
+def test_two_tangent_circles_are_not_taken_by_an_exact_path():
+    # Loops that touch need surgery (the exact answer merges them), which only the polygon engine does.
+    with pytest.warns(FlattenWarning):
+        T = tighten([Loop.circle((0.0, 0.0), 4.0), Loop.circle((8.0, 0.0), 4.0)], 1.0)
+    assert not isinstance(T, LoopTightening)
 
 
 def test_a_hole_tighter_than_r_is_not_certified():

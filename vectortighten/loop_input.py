@@ -196,22 +196,40 @@ def region(loops, tolerance: float):
     return geom
 
 
-def _pinned(loops, r: float, side: int) -> tuple[np.ndarray, bool]:
+def _apart(loops, tolerance: float) -> bool:
+    """Whether the loops are pairwise more than 4·``tolerance`` apart, sampled within ``tolerance`` (so a
+    pair that touches, or comes within rounding of it, is found; a pair closer than that is taken as
+    touching, and the exact paths are not tried)."""
+    rings = [lp.to_ring(tolerance) for lp in loops]
+    if len(rings) < 2:
+        return True
+    tree = shapely.STRtree(rings)
+    i, j = tree.query(rings, predicate="dwithin", distance=4.0 * tolerance)
+    return bool((i == j).all())
+
+
+def _pinned(loops, r: float, side: int, trims=None, o=None) -> tuple[np.ndarray, bool]:
     """Per feature (pieces of the loops in `curved_offsets._features` order): whether it is pinned on
-    ``side`` (its offset element kept whole, see the module notes); and whether every vertex element (an
-    arc about a join turning away from the side) is kept whole."""
+    ``side`` (its offset element kept whole, see the module notes; with ``trims`` (nf, 2), kept over the
+    parameter range ``trims[f]`` of feature f only); and whether every vertex element (an arc about a
+    join turning away from the side) is kept whole."""
     from .curved_offsets import _inside, _offset_parts, _point_feature_distance
 
-    o = _offset_parts(loops, r, side)
+    o = _offset_parts(loops, r, side) if o is None else o
     nf = len(o.farc)
-    # An element is kept whole when one kept part runs from 0 to 1 (to its length's precision).
+    own = o.el_piece >= 0
+    a = np.zeros(len(o.el_arc))
+    b = np.ones(len(o.el_arc))
+    if trims is not None:
+        a[own], b[own] = trims[o.el_piece[own], 0], trims[o.el_piece[own], 1]
+    # An element is kept (over [a, b]) when one kept part covers that range (to its length's precision).
     whole = np.zeros(len(o.el_arc), dtype=bool)
     if len(o.part_e):
-        full = (o.lo <= o.tiny[o.part_e]) & (o.hi >= 1.0 - o.tiny[o.part_e])
-        whole[o.part_e[full]] = True
+        e = o.part_e
+        full = (o.lo <= a[e] + o.tiny[e]) & (o.hi >= b[e] - o.tiny[e])
+        whole[e[full]] = True
     whole |= o.length <= 2.0 * o.eps                        # rounding-sized elements: nothing to keep
     pinned = np.zeros(nf, dtype=bool)
-    own = o.el_piece >= 0
     pinned[o.el_piece[own]] = whole[own]
     # Point elements: the centre of an arc of radius r bending towards the side.
     if len(o.collapsed):
@@ -328,13 +346,22 @@ def tighten_loops(S, r: float, init="core", tolerance: float | None = None):
     tolerance = check_tolerance(tolerance, r)
     shape = region(loops, tolerance)
     tolerance = check_tolerance(tolerance, r, shape)
-    if identity(loops, r, init):
+    apart = _apart(loops, tolerance)
+    if apart and identity(loops, r, init):
         T = LoopTightening(loops=loops, geometry=shape, r=r, init=init, tolerance=tolerance, shape=shape)
         T._cache["_path"] = "identity"
         return T
+    from .arc_fillets import corner_fillets
+
+    filleted = corner_fillets(loops, r) if apart else None
+    if filleted is not None:
+        T = LoopTightening(loops=filleted, geometry=region(filleted, tolerance), r=r, init=init,
+                           tolerance=tolerance, shape=shape)
+        T._cache["_path"] = "arc-fillets"
+        return T
     flat = check_shape(region(loops, FLATTEN_R * r))
     U = tighten(flat, r, init=init, tolerance=tolerance)
-    if init != "input" and identity(loops, r, "input") and _matches(U, shape, loops, r):
+    if apart and init != "input" and identity(loops, r, "input") and _matches(U, shape, loops, r):
         # S is exactly a tightening of itself, and the flow from this init picks its homotopy class.
         T = LoopTightening(loops=loops, geometry=shape, r=r, init=init, tolerance=tolerance, shape=shape)
         T._cache["_path"] = "matched"
