@@ -10,8 +10,11 @@ Cases:
   the identity path);
 * **plates n**: n such plates side by side, each with k holes of radius 1.5 (identity);
 * **tightening**: a tightening fed back in (a star, r = 1, init core; identity);
-* **sharp plate**: the plate with sharp corners (not its own tightening: the loops are flattened and the
-  polygon engine runs, after the identity test fails: the overhead of that test).
+* **sharp plate**: the plate with sharp corners (not its own tightening; its corners are isolated: the
+  `arc_fillets` path);
+* **thin wall (fallback)**: the sharp plate with the hole 1 from its edge at r = 1: no exact path
+  applies, the loops are flattened and the polygon engine runs after the exact tests fail (their
+  overhead).
 
 Medians of ``--repeats`` runs; wall time on whatever machine runs it.
 
@@ -69,6 +72,7 @@ def cases():
     sq = Loop([Segment((-10, -10), (10, -10)), Segment((10, -10), (10, 10)), Segment((10, 10), (-10, 10)),
                Segment((-10, 10), (-10, -10))])
     yield "sharp plate", [sq, Loop.circle((0.0, 0.0), 4.0, ccw=False)], 3.0
+    yield "thin wall (fallback)", [sq, Loop.circle((5.0, 0.0), 4.0, ccw=False)], 1.0
 
 
 def timed(fn):
