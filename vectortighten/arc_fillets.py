@@ -18,13 +18,14 @@ at them.
 
 Certificate
 -----------
-The result T is returned only if (1) every trimmed piece of S is pinned on both sides over its trimmed
-range: its offset element on each side (see `loop_input`) is kept by `curved_offsets` over that range,
-cut at most where the fillet's centre is; (2) every arc about a corner in those offsets (the vertex
+The result T is returned only if (1) every piece of S is pinned on both sides: its offset element on
+each side (see `loop_input`) is kept by `curved_offsets` whole, except that on a fillet's side it may
+be cut where the fillet's centre is (the element beyond the foot is then not asked for); (2) every arc about a corner in those offsets (the vertex
 elements, on the side a corner turns away from) is kept whole; (3) every fillet centre has clearance
 ≥ r − ε from all of S's features and lies inside S (convex corner) or outside it (reflex); (4) T's
 loops bound a valid shape. Then, with the lemma of `loop_input`: by (1) every kept point of ∂S lies on
-∂R_r(S) and on ∂F_r(S) (the mortar has no width there); by (3) each convex fillet disk lies in S, so its
+∂R_r(S) and on ∂F_r(S) (the mortar has no width there), and the trimmed-away parts at a corner lie
+on the boundary of the other set (∂F_r(S) at a convex corner, ∂R_r(S) at a reflex one); by (3) each convex fillet disk lies in S, so its
 arc lies on ∂R_r(S), and each reflex one in S^c, its arc on ∂F_r(S); by (2) the corner itself lies on
 ∂F_r(S) (convex) or ∂R_r(S) (reflex). So the mortar is ∂S plus one pocket at each corner, bounded by
 the corner's two pieces and the fillet arc; T's boundary lies in the mortar, its straight pieces are
@@ -174,6 +175,7 @@ def corner_fillets(loops, r: float):
     for pieces in clean:
         n = len(pieces)
         lo, hi = np.zeros(n), np.ones(n)
+        start_side, end_side = np.zeros(n, np.int64), np.zeros(n, np.int64)    # the fillets' sides
         fillet = [None] * n                         # fillet[k]: the arc after piece k
         for k in range(n):
             p, q = pieces[k], pieces[(k + 1) % n]
@@ -193,8 +195,9 @@ def corner_fillets(loops, r: float):
             tq, fq = _foot(q, c)
             if not (-_ON <= tp <= 1 + _ON and -_ON <= tq <= 1 + _ON):
                 return None
-            hi[k] = min(hi[k], max(tp, 0.0)) if n > 1 or k != (k + 1) % n else hi[k]
+            hi[k] = min(hi[k], max(tp, 0.0))
             lo[(k + 1) % n] = max(lo[(k + 1) % n], min(tq, 1.0))
+            end_side[k], start_side[(k + 1) % n] = sigma, sigma
             th_p = math.atan2(fp[1] - c[1], fp[0] - c[0])
             th_q = math.atan2(fq[1] - c[1], fq[0] - c[0])
             sweep = sigma * ((sigma * (th_q - th_p)) % _TWO_PI)
@@ -206,7 +209,7 @@ def corner_fillets(loops, r: float):
             corners += 1
         if (hi - lo <= 1e-12).any():
             return None                             # two fillets overlap on one piece
-        trims.append(np.column_stack([lo, hi]))
+        trims.append(np.column_stack([lo, hi, start_side, end_side]))
         new = []
         for k in range(n):
             new.append(_part(pieces[k], lo[k], hi[k]) if (lo[k], hi[k]) != (0.0, 1.0) else pieces[k])
@@ -217,12 +220,15 @@ def corner_fillets(loops, r: float):
         return None
     S = [Loop(p) for p in clean]
     trims = np.concatenate(trims)
-    # (1), (2): the trimmed pieces pinned on both sides, the vertex elements whole.
+    # (1), (2): the pieces pinned on both sides — on a fillet's side up to its foot, on the other side
+    # whole (the corner's pieces bound its pocket) — and the vertex elements whole.
     for side in (1, -1):
         o = _offset_parts(S, r, side)
         if len(o.farc) != len(trims):
             return None
-        pinned, joins = _pinned(S, r, side, trims, o)
+        rng = np.column_stack([np.where(trims[:, 2] == side, trims[:, 0], 0.0),
+                               np.where(trims[:, 3] == side, trims[:, 1], 1.0)])
+        pinned, joins = _pinned(S, r, side, rng, o)
         if not (pinned.all() and joins):
             return None
     # (3): every fillet centre clear of S's features, on its side.
