@@ -301,3 +301,36 @@ def test_cli_exact_arcs_refused_for_images(tmp_path, capsys):
     assert main(["tighten", str(img), "-r", "3", "-o", str(tmp_path / "o.png"), "--exact-arcs"]) == 2
     err = capsys.readouterr().err
     assert "--exact-arcs applies to SVG, DXF and WKT input only" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("seed", [11])
+def test_arc_fillets_agree_with_the_polygon_engine_on_the_flattened_shape(seed):
+    # Random star plates with round holes: where the exact path applies, the polygon engine on the shape
+    # flattened within 1e-5·r gives the same topology and differs by chord-sized slivers only.
+    from shapely.geometry import Point
+
+    from vectortighten.arc_fillets import corner_fillets
+    from vectortighten.loop_input import region
+
+    rng = np.random.default_rng(seed)
+    done = 0
+    while done < 1:
+        k = int(rng.integers(5, 10))
+        th = np.sort(rng.uniform(0, 2 * np.pi, k))
+        rad = rng.uniform(6, 10, k)
+        P = Polygon(np.column_stack([rad * np.cos(th), rad * np.sin(th)]))
+        c, rho = rng.uniform(-3, 3, 2), float(rng.uniform(0.8, 2.0))
+        if not (P.is_valid and P.contains(Point(c).buffer(rho + 0.5))):
+            continue
+        loops = [Loop.from_polygon_ring(P.exterior.coords), Loop.circle(tuple(c), rho, ccw=False)]
+        r = float(rng.uniform(0.3, 0.8))
+        if corner_fillets(loops, r) is None:
+            continue
+        done += 1
+        T = tighten(loops, r)
+        assert T._cache["_path"] == "arc-fillets"
+        assert_one_arc(the_hole(T.loops), tuple(c), rho)
+        U = tighten(region(loops, 1e-5 * r), r)
+        assert (U.n_components, U.n_holes) == (T.n_components, T.n_holes)
+        assert T.geometry.symmetric_difference(U.geometry).area <= 1e-4 * r * T.perimeter
+        assert T.verify() == []

@@ -370,8 +370,8 @@ def tighten_loops(S, r: float, init="core", tolerance: float | None = None):
     if arcs:
         warnings.warn(f"the shape's {arcs} arc{'s are' if arcs != 1 else ' is'} flattened to chords within "
                       f"{FLATTEN_R:g}·r before tightening: the result's arcs all have radius r, the input's "
-                      "own radii are not kept (exact arc features are not implemented beyond the case where "
-                      "the shape is its own tightening)", FlattenWarning, stacklevel=3)
+                      "own radii are not kept (the exact paths take shapes that are their own tightening or "
+                      "whose corners are isolated)", FlattenWarning, stacklevel=3)
     return U
 
 
