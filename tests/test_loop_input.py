@@ -12,7 +12,7 @@ from shapely.geometry import Point, Polygon, box
 from vectortighten import tighten
 from vectortighten.cli import main
 from vectortighten.curves import Arc, Loop, Segment
-from vectortighten.errors import InvalidGeometryError
+from vectortighten.errors import InvalidGeometryError, InvalidRadiusError
 from vectortighten.io import read_loops, write_result
 from vectortighten.loop_input import FlattenWarning, LoopTightening, identity, merge_arcs
 
@@ -240,6 +240,12 @@ def test_bad_loops_get_a_clear_error():
         tighten([Loop.circle((0.0, 0.0), 4.0, ccw=False)], 1.0)
     with pytest.raises(ValueError, match="init"):
         tighten(plate(), 3.0, init="nope")
+    with pytest.raises(InvalidRadiusError):
+        tighten(plate(), 0.0)
+    with pytest.raises(InvalidGeometryError, match="NaN"):
+        tighten([Loop.circle((math.nan, 0.0), 4.0)], 1.0)
+    with pytest.raises(InvalidGeometryError, match="valid shape"):
+        tighten([Loop.circle((0.0, 0.0), 4.0), Loop.circle((20.0, 0.0), 1.0, ccw=False)], 1.0)   # hole outside
 
 
 # -- idempotence ----------------------------------------------------------------------------------------
