@@ -39,6 +39,8 @@ from .errors import (
     TighteningError,
     TighteningFailedError,
 )
+from .exact_morphology import ExactBoundary, exact_boundary
+from .loop_input import FlattenWarning
 from . import limits
 from .vectorized import core_all, fillet_all, mason_all, mortar_all, tighten_all
 
@@ -48,6 +50,8 @@ __all__ = [
     "Arc",
     "ArcCenters",
     "CrossCheck",
+    "ExactBoundary",
+    "FlattenWarning",
     "Init",
     "Tightening",
     "anticore",
@@ -55,6 +59,7 @@ __all__ = [
     "core",
     "core_all",
     "crosscheck",
+    "exact_boundary",
     "fillet",
     "fillet_all",
     "fillet_round",

@@ -313,6 +313,11 @@ def _add_tighten(sub) -> None:
                           "(holes drawn as separate elements stay holes); paint fills shapes in painting "
                           "order, a shape in the background colour erasing; auto (default) is evenodd "
                           "when no shape is filled, else paint")
+    cad.add_argument("--exact-arcs", action="store_true",
+                     help="SVG, DXF and curved WKT input: read circles and circular arcs as exact arcs; a "
+                          "part that is its own tightening (every corner rounded to at least R, holes of "
+                          "radius at least R, no part thinner than 2R) comes back unchanged with its own "
+                          "arcs, any other is flattened within 1e-5·R first (with a warning)")
     cad.add_argument("--gap", type=_nonnegative_float, default=None, metavar="G",
                      help="SVG and DXF input: loose ends nearer than G join into one outline, in the "
                           "drawing's units (default 1e-6 of its diagonal)")
@@ -371,6 +376,7 @@ class _Task:
     geo: GeoOptions | None = None
     progress: bool = False
     quiet: bool = False
+    exact_arcs: bool = False
 
 
 @dataclass
@@ -466,7 +472,8 @@ def _tighten_file(task: _Task) -> str:
                             **dict(task.read_options))
     with FeatureBar(1, enabled=task.progress, unit="shape") as bar:     # a large shape shows it is working
         bar.start(task.source.name, shapely.get_num_coordinates(source.shape))
-        result = tighten(source.shape, task.r, init=task.init, tolerance=task.tolerance)
+        shape = io.loops_of(source, str(task.source)) if task.exact_arcs else source.shape
+        result = tighten(shape, task.r, init=task.init, tolerance=task.tolerance)
         bar.advance()
     if result.is_empty:
         warnings.warn(f"the tightening is empty: every part is thinner than 2r = {2 * task.r:g}", UserWarning)
@@ -649,7 +656,7 @@ def _plan(args) -> tuple[list[_Task], bool]:
                        skip_failed=args.skip_failed)
     opts = dict(r=args.radius, init=args.init, tolerance=args.tolerance, flatten=args.flatten,
                 layers=args.layers, trace=args.trace or "exact", geo=geo, quiet=args.quiet,
-                progress=not batch and not args.quiet and (args.progress or sys.stderr.isatty()))
+                exact_arcs=args.exact_arcs, progress=not batch and not args.quiet and (args.progress or sys.stderr.isatty()))
     if batch:
         if out.exists() and not out.is_dir():
             raise UsageError(f"{str(out)!r} exists and is not a folder")
@@ -686,6 +693,9 @@ def _plan(args) -> tuple[list[_Task], bool]:
         seen[rt] = f
         tasks.append(_Task(f, t, route=_route(f, args.input_format), **opts))
     _check_scoped(args, tasks)
+    if args.exact_arcs and any(t.route != "shape" for t in tasks):
+        bad = next(t for t in tasks if t.route != "shape")
+        raise UsageError(f"--exact-arcs applies to SVG, DXF and WKT input only, not {str(bad.source)!r}")
     tasks = [_scoped_options(args, t) for t in tasks]
     if batch:
         _out_folder(out)

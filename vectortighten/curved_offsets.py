@@ -150,10 +150,42 @@ def curved_offsets(loops, r: float, side: int = 1):
     >>> sorted(data[arc, 2].tolist())
     [4.0]
     """
+    o = _offset_parts(loops, r, side)
+    if o is None:
+        return np.zeros(0, bool), np.zeros((0, 5)), 0.0
+    el_arc, el_dat, pe2, lo, hi = o.el_arc, o.el_dat, o.part_e, o.lo, o.hi
+    arc_out = el_arc[pe2]
+    d = el_dat[pe2]
+    out = np.empty((len(pe2), 5))
+    a0 = _points(el_arc, el_dat, pe2, lo)
+    a1 = _points(el_arc, el_dat, pe2, hi)
+    out[~arc_out] = np.column_stack([a0[~arc_out], a1[~arc_out], np.zeros(int((~arc_out).sum()))])
+    out[arc_out] = np.column_stack([d[arc_out, 0:3], d[arc_out, 3] + d[arc_out, 4] * lo[arc_out],
+                                    d[arc_out, 4] * (hi[arc_out] - lo[arc_out])])
+    return arc_out, out, o.eps
+
+
+class _Parts:
+    """What `_offset_parts` finds: the raw elements, the kept parts of each, and the features."""
+
+    def __init__(self, **kw):
+        self.__dict__.update(kw)
+
+
+def _offset_parts(loops, r: float, side: int):
+    """The raw offset elements of the loops' pieces at distance r on ``side``, and the parts of each kept.
+
+    Returns a `_Parts` with ``el_arc``, ``el_dat`` (the raw elements as `Loop` rows), ``el_piece`` (the
+    feature each element offsets, −1 for an arc about a vertex), ``part_e``, ``lo``, ``hi`` (kept parts:
+    element and parameter range, consecutive kept parts of one element merged), ``eps`` (the precision),
+    ``collapsed`` (features whose offset is a point: arcs of radius within ``eps`` of r offset towards
+    their centre), ``too_curved`` (arcs of radius below r − eps offset towards their centre: they vanish)
+    and the features (``farc``, ``fdat``, ``fp0``, ``fp1``, ``tree``, ``fsag``); None without features.
+    """
     r = float(r)
     farc, fdat, fp0, fp1, ft0, ft1, fnxt = _features(loops)
     if len(farc) == 0:
-        return np.zeros(0, bool), np.zeros((0, 5)), 0.0
+        return None
     pts = np.concatenate([fp0, fp1, fdat[farc, :2]])
     x0, y0 = pts.min(axis=0)
     x1, y1 = pts.max(axis=0)
@@ -161,19 +193,24 @@ def curved_offsets(loops, r: float, side: int = 1):
     big = max(abs(x0), abs(y0), abs(x1), abs(y1), size)
     eps = max(1e-13 * size, _ROUNDING * float(np.spacing(big)))
     # Raw elements.
-    el_arc, el_dat = [], []
+    el_arc, el_dat, el_piece = [], [], []
     nl0 = np.column_stack([-ft0[:, 1], ft0[:, 0]])         # left normal at each feature's start
     segs = ~farc
+    collapsed = too_curved = np.zeros(0, np.int64)
     if segs.any():
         sh = side * r * nl0[segs]
         el_arc.append(np.zeros(int(segs.sum()), bool))
         el_dat.append(np.column_stack([fdat[segs, 0:2] + sh, fdat[segs, 2:4] + sh, np.zeros(int(segs.sum()))]))
+        el_piece.append(np.flatnonzero(segs))
     if farc.any():
         d = fdat[farc]
         rho = d[:, 2] - side * np.sign(d[:, 4]) * r         # a CCW arc's left normal points to its centre
         ok = rho > eps
         el_arc.append(np.ones(int(ok.sum()), bool))
         el_dat.append(np.column_stack([d[ok, 0:2], rho[ok], d[ok, 3], d[ok, 4]]))
+        ia = np.flatnonzero(farc)
+        el_piece.append(ia[ok])
+        collapsed, too_curved = ia[~ok & (rho >= -eps)], ia[rho < -eps]
     # Arcs about the vertices where the boundary turns away from the side.
     tin, tout = ft1, ft0[fnxt]
     turn = np.arctan2(tin[:, 0] * tout[:, 1] - tin[:, 1] * tout[:, 0], (tin * tout).sum(axis=1))
@@ -183,8 +220,10 @@ def curved_offsets(loops, r: float, side: int = 1):
         n_in = side * np.column_stack([-tin[opens, 1], tin[opens, 0]])
         el_arc.append(np.ones(int(opens.sum()), bool))
         el_dat.append(np.column_stack([v, np.full(len(v), r), np.arctan2(n_in[:, 1], n_in[:, 0]), turn[opens]]))
+        el_piece.append(np.full(len(v), -1))
     el_arc = np.concatenate(el_arc)
     el_dat = np.concatenate(el_dat).reshape(-1, 5)
+    el_piece = np.concatenate(el_piece).astype(np.int64)
     n_el = len(el_arc)
     # Features' r-neighbourhood boundaries: 2 lines and 4 circles each (NaN where a kind has fewer).
     nf = len(farc)
@@ -244,16 +283,19 @@ def curved_offsets(loops, r: float, side: int = 1):
             gap = np.diff(b) > tiny[i]
             b = np.r_[b[:-1][gap], 1.0]
         part_e.append(np.full(len(b) - 1, i)), part_lo.append(b[:-1]), part_hi.append(b[1:])
+    common = dict(el_arc=el_arc, el_dat=el_dat, el_piece=el_piece, eps=eps, collapsed=collapsed,
+                  too_curved=too_curved, farc=farc, fdat=fdat, fp0=fp0, fp1=fp1, tree=tree, fsag=fsag,
+                  length=length, tiny=tiny)
     if not part_e:
-        return np.zeros(0, bool), np.zeros((0, 5)), eps
+        z = np.zeros(0)
+        return _Parts(part_e=np.zeros(0, np.int64), lo=z, hi=z, **common)
     pe2, lo, hi = np.concatenate(part_e), np.concatenate(part_lo), np.concatenate(part_hi)
     mid = _points(el_arc, el_dat, pe2, 0.5 * (lo + hi))
     qi, qf = tree.query(shapely.points(mid), predicate="dwithin", distance=r + fsag)
     dist = _point_feature_distance(farc, fdat, fp0, fp1, qf, mid[qi])
     clear = np.ones(len(mid), dtype=bool)
     np.logical_and.at(clear, qi, dist >= r - eps)
-    tol = max(eps, 1e-9 * size)
-    inside = shapely.contains_xy(_sampled(loops, tol), mid[:, 0], mid[:, 1])
+    inside = _inside(loops, mid, r)
     keep = clear & (inside if side > 0 else ~inside)
     pe2, lo, hi = pe2[keep], lo[keep], hi[keep]
     # Merge consecutive kept parts of one element.
@@ -263,15 +305,7 @@ def curved_offsets(loops, r: float, side: int = 1):
         idx = np.flatnonzero(start)
         hi = np.maximum.reduceat(hi, idx)
         pe2, lo = pe2[idx], lo[idx]
-    arc_out = el_arc[pe2]
-    d = el_dat[pe2]
-    out = np.empty((len(pe2), 5))
-    a0 = _points(el_arc, el_dat, pe2, lo)
-    a1 = _points(el_arc, el_dat, pe2, hi)
-    out[~arc_out] = np.column_stack([a0[~arc_out], a1[~arc_out], np.zeros(int((~arc_out).sum()))])
-    out[arc_out] = np.column_stack([d[arc_out, 0:3], d[arc_out, 3] + d[arc_out, 4] * lo[arc_out],
-                                    d[arc_out, 4] * (hi[arc_out] - lo[arc_out])])
-    return arc_out, out, eps
+    return _Parts(part_e=pe2, lo=lo, hi=hi, **common)
 
 
 def _points(arc, data, e, t):
@@ -280,6 +314,20 @@ def _points(arc, data, e, t):
     on_arc = d[:, :2] + d[:, 2:3] * np.column_stack([np.cos(ang), np.sin(ang)])
     on_seg = d[:, :2] + t[:, None] * (d[:, 2:4] - d[:, :2])
     return np.where(arc[e][:, None], on_arc, on_seg)
+
+
+def _inside(loops, xy: np.ndarray, r: float) -> np.ndarray:
+    """Whether each point is inside S, for points at clearance ≥ r − ε from ∂S (the only ones asked).
+
+    Each loop is sampled with chords within r/100 of it, so such a point is on the same side of the
+    chords as of the curve; inside S when an odd number of loops enclose it (the loops are disjoint).
+    """
+    count = np.zeros(len(xy), dtype=np.int64)
+    if len(xy) == 0:
+        return count.astype(bool)
+    for lp in loops:
+        count += shapely.contains_xy(Polygon(lp.sample(0.01 * r)), xy[:, 0], xy[:, 1])
+    return count % 2 == 1
 
 
 def _sampled(loops, tol: float):

@@ -1407,9 +1407,12 @@ def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None =
 
     Parameters
     ----------
-    S : shapely Polygon or MultiPolygon
+    S : shapely Polygon or MultiPolygon, list of Loop, or Tightening
         The shape, in any units. Invalid polygons are repaired with ``shapely.make_valid`` (with a
-        `RepairWarning`).
+        `RepairWarning`). Given by its exact boundary (`Loop`s of segments and arcs, outer boundaries
+        counter-clockwise, holes clockwise, or a `Tightening` fed back in), the shape comes back itself,
+        with its own pieces, when it is exactly its own tightening, else its arcs are flattened within
+        1e-5·r first (see `vectortighten.loop_input`).
     r : float
         The radius, > 0, in the units of S.
     init : {"core", "input", "mason"}
@@ -1462,6 +1465,10 @@ def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None =
     >>> T.min_radius_of_curvature
     1.0
     """
+    if not isinstance(S, (Polygon, MultiPolygon)) and _loop_input(S):
+        from .loop_input import tighten_loops   # S given by its exact boundary (segments and arcs)
+
+        return tighten_loops(S, r, init=init, tolerance=tolerance)
     r = check_radius(r)
     S = check_shape(S)
     tol = check_tolerance(tolerance, r, S)
@@ -1472,6 +1479,12 @@ def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None =
         raise ValueError(f"init must be 'core', 'input' or 'mason', got {init!r}") from None
     check_output_size(S, r, tol)
     return guarded_tighten(_tighten, S, r, init, tol)
+
+
+def _loop_input(S) -> bool:
+    from .loop_input import is_loop_input
+
+    return is_loop_input(S)
 
 
 def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Tightening:

@@ -65,6 +65,8 @@ __all__ = [
     "load_svg",
     "read_dxf",
     "read_features",
+    "loops_of",
+    "read_loops",
     "read_mask",
     "read_shape",
     "read_source",
@@ -206,8 +208,7 @@ FORMATS: dict[str, Format] = {
     "svg": Format("svg", (".svg",), _read_svg,
                   _write_text(lambda result, meta=None, **kw: svg.svg_document(result, meta=meta, **kw)),
                   read_options=("nesting", "gap"), write_options=("keep_style", "stroke_only")),
-    "wkt": Format("wkt", (".wkt",), lambda path, flatten=None, **_: _polygonal(geo.read_wkt(path, flatten),
-                                                                            str(path)),
+    "wkt": Format("wkt", (".wkt",), lambda path, flatten=None, **_: geo.read_wkt_source(path, flatten),
                   _write_text(lambda result, **_: geo.wkt_text(result))),
     "geojson": _geodata("geojson", (".geojson", ".json")),
     "gpkg": _geodata("gpkg", (".gpkg",)),
@@ -336,6 +337,70 @@ def read_source(path, *, flatten: float | None = None, format: str | None = None
         got.meta.setdefault("format", fmt.name)
         return got
     return Source(got, {"format": fmt.name})
+
+
+def read_loops(path, *, format: str | None = None, **options) -> list:
+    """Read a vector file's exact boundary as `Loop`s: circles and circular arcs as exact `Arc`s.
+
+    The sibling of `read_shape` for the exact path (``tighten(read_loops(path), r)``): SVG ``<circle>``
+    and ``A`` commands with equal radii (under a transform that keeps circles circular), DXF ARC, CIRCLE
+    and polyline bulges, WKT ``CIRCULARSTRING`` arcs each become one `Arc` of their own radius, and
+    consecutive arcs of one circle are merged (an SVG circle, drawn as two half circles, is one arc of a
+    whole turn). Ellipses, Bézier curves and splines are chains of `Segment`s, flattened within the
+    reader's tolerance as in `read_shape`. A file without curves gives its polygon's rings as segments.
+
+    Parameters
+    ----------
+    path : str or Path
+        A vector file (see `read_source`).
+    format : str, optional
+        The format's name, when the extension does not tell.
+    **options
+        The format's reader options (see `read_source`).
+
+    Returns
+    -------
+    list of Loop
+        Outer boundaries counter-clockwise, holes clockwise, in the file's units (as `read_source`).
+
+    Raises
+    ------
+    InvalidGeometryError
+        The file's outlines do not make a valid boundary (they cross or touch, or shapes are painted over
+        each other): read it with `read_shape`, which unites them.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d) / "s.svg"
+    ...     _ = p.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="20">'
+    ...                      '<path d="M0 0 H40 V20 H0 Z M14 10 A4 4 0 0 0 6 10 A4 4 0 0 0 14 10 Z"/></svg>')
+    ...     plate, hole = read_loops(p)
+    >>> [(a.center, a.radius) for a in hole.pieces]        # y flipped: SVG's y points down
+    [((10.0, -10.0), 4.0)]
+    """
+    return loops_of(read_source(path, format=format, **options), str(path))
+
+
+def loops_of(source: Source, name: str = "the input") -> list:
+    """The exact boundary of a `Source` as `Loop`s, as `read_loops` gives it (``name`` for messages)."""
+    import shapely
+
+    from vectortighten.curves import Loop
+    from vectortighten.errors import InvalidGeometryError
+    from vectortighten.loop_input import merge_arcs
+
+    loops = source.loops
+    if loops is None:
+        if source.meta.get("format") in ("svg", "dxf") or not source.shape.is_valid or source.shape.is_empty:
+            raise InvalidGeometryError(f"{name}: the outlines do not make one valid boundary (they cross, "
+                                       "touch or are painted over each other); read_shape unites them")
+        loops = []
+        for poly in getattr(source.shape, "geoms", [source.shape]):
+            poly = shapely.orient_polygons(poly, exterior_cw=False)
+            loops += [Loop.from_polygon_ring(ring.coords) for ring in [poly.exterior, *poly.interiors]]
+    return [merge_arcs(lp) for lp in loops]
 
 
 def read_shape(path, *, flatten: float | None = None, format: str | None = None,

@@ -3,7 +3,8 @@
 GEOS (and so shapely) does not read these types. Here they are parsed and their arcs sampled into chords
 within a flattening tolerance, as the SVG and DXF readers flatten theirs; plain types met on the way
 (``POLYGON``, ``MULTIPOLYGON``, ``LINESTRING`` rings, ``GEOMETRYCOLLECTION``) are read too. Z and M
-ordinates are ignored. The exact engine takes polygons, so arcs are sampled, not kept as arcs.
+ordinates are ignored. `read_curved_wkt` samples the arcs (the polygon the engine takes);
+`read_curved_wkt_loops` keeps them: the boundary as `Loop`s with one exact `Arc` a three-point arc.
 
 A ``CIRCULARSTRING`` is a chain of arcs, each through three consecutive points (start, a point on the
 arc, end; consecutive arcs share their end points); three collinear points are a straight piece, and a
@@ -20,7 +21,7 @@ from shapely.geometry import MultiPolygon, Polygon
 
 from vectortighten.errors import InvalidGeometryError
 
-__all__ = ["has_curves", "read_curved_wkt"]
+__all__ = ["has_curves", "read_curved_wkt", "read_curved_wkt_loops"]
 
 _CURVED = re.compile(r"\b(CURVEPOLYGON|CIRCULARSTRING|COMPOUNDCURVE|MULTISURFACE|MULTICURVE)\b", re.I)
 _TOKEN = re.compile(r"\s*(?:([A-Za-z]+)|([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|nan|inf)|(\()|(\))|(,))")
@@ -93,6 +94,33 @@ class _Parser:
                 continue
             self.take(")")
             return np.array(rows, dtype=float)
+
+
+def _arc_through(p0, p1, p2):
+    """``(center, radius, start_angle, sweep)`` of the arc from p0 through p1 to p2, or None if the three
+    points are collinear (a straight piece) or p0 = p1 = p2. A closed string (p0 = p2) is the full circle
+    whose diameter is p0 p1, swept counter-clockwise."""
+    if np.array_equal(p0, p2):
+        center = 0.5 * (p0 + p1)
+        radius = 0.5 * float(np.hypot(*(p1 - p0)))
+        if not (math.isfinite(radius) and radius > 0):
+            return None
+        return center, radius, math.atan2(p0[1] - center[1], p0[0] - center[0]), 2.0 * math.pi
+    (ax, ay), (bx, by), (cx, cy) = p0, p1, p2
+    d = 2.0 * (ax * (by - cy) + bx * (cy - ay) + cx * (ay - by))
+    chord = max(float(np.hypot(*(p2 - p0))), float(np.hypot(*(p1 - p0))), 1e-300)
+    if not math.isfinite(d) or abs(d) <= 1e-14 * chord * chord:
+        return None
+    a2_, b2_, c2_ = ax * ax + ay * ay, bx * bx + by * by, cx * cx + cy * cy
+    ux = (a2_ * (by - cy) + b2_ * (cy - ay) + c2_ * (ay - by)) / d
+    uy = (a2_ * (cx - bx) + b2_ * (ax - cx) + c2_ * (bx - ax)) / d
+    radius = float(np.hypot(ax - ux, ay - uy))
+    if not (math.isfinite(radius) and radius > 0):
+        return None
+    a0 = math.atan2(ay - uy, ax - ux)
+    a2 = math.atan2(cy - uy, cx - ux)
+    sweep = (a2 - a0) % (2.0 * math.pi) if d > 0 else -((a0 - a2) % (2.0 * math.pi))
+    return np.array([ux, uy]), radius, a0, sweep
 
 
 def _arc_points(p0, p1, p2, tol: float) -> np.ndarray:
@@ -279,3 +307,120 @@ def read_curved_wkt(text: str, source: str, flatten: float | None = None) -> Pol
     if not polys:
         return Polygon()
     return polys[0] if len(polys) == 1 else MultiPolygon(polys)
+
+
+def _segments(pts: np.ndarray) -> list:
+    from vectortighten.curves import Segment
+
+    return [Segment(pts[k], pts[k + 1]) for k in range(len(pts) - 1) if not np.array_equal(pts[k], pts[k + 1])]
+
+
+class _PieceReader(_Reader):
+    """Like `_Reader`, but a ring is a list of exact pieces (`Segment`, `Arc`) instead of points."""
+
+    def curve(self):
+        from vectortighten.curves import Arc
+
+        p = self.p
+        if p.peek()[0] == "(":
+            return _segments(p.points())
+        w = p.word()
+        if p.empty():
+            return []
+        if w == "LINESTRING":
+            return _segments(p.points())
+        if w == "CIRCULARSTRING":
+            pts = p.points()
+            _circular(pts, 1.0, p.source)                       # the same checks as when sampling
+            out = []
+            for k in range(0, len(pts) - 2, 2):
+                arc = _arc_through(pts[k], pts[k + 1], pts[k + 2])
+                if arc is None:
+                    out += _segments(pts[k:k + 3])
+                else:
+                    out.append(Arc(*arc))
+            return out
+        if w == "COMPOUNDCURVE":
+            p.take("(")
+            chain: list = []
+            while True:
+                piece = self.curve()
+                if chain and piece and not np.allclose(chain[-1].end, piece[0].start, rtol=0,
+                                                       atol=1e-9 * (1 + np.abs(piece[0].start).max())):
+                    raise p.error("the pieces of a COMPOUNDCURVE do not join end to start")
+                chain += piece
+                if p.peek()[0] == ",":
+                    p.i += 1
+                    continue
+                p.take(")")
+                return chain
+        raise p.error(f"{w} is not a ring")
+
+    def rings(self):
+        p = self.p
+        p.take("(")
+        out = []
+        while True:
+            ring = self.curve()
+            if ring:
+                a, b = np.asarray(ring[0].start), np.asarray(ring[-1].end)
+                if not np.allclose(a, b, rtol=0, atol=1e-9 * (1 + np.abs(a).max())):
+                    raise p.error("a ring is not closed")
+                out.append(ring)
+            if p.peek()[0] == ",":
+                p.i += 1
+                continue
+            p.take(")")
+            return out
+
+    def polygon(self, rings):
+        return [rings] if rings else []
+
+
+def read_curved_wkt_loops(text: str, source: str) -> list:
+    """The boundary of curved WKT ``text`` as exact loops: each three-point arc one `Arc`.
+
+    Parameters
+    ----------
+    text : str
+        WKT, possibly with ``CURVEPOLYGON``, ``CIRCULARSTRING``, ``COMPOUNDCURVE``, ``MULTISURFACE``.
+    source : str
+        Names the file in messages.
+
+    Returns
+    -------
+    list of Loop
+        Every polygon's first ring counter-clockwise, its other rings clockwise (reversed where the file
+        runs them the other way), in the file's units. Whether they bound a valid shape is the caller's
+        to check (`read_curved_wkt` gives the same region sampled).
+
+    Examples
+    --------
+    A square plate with a hole of radius 2: the hole is one arc, clockwise.
+
+    >>> wkt = ("CURVEPOLYGON((0 0, 10 0, 10 10, 0 10, 0 0), "
+    ...        "CIRCULARSTRING(3 5, 7 5, 3 5))")
+    >>> plate, hole = read_curved_wkt_loops(wkt, "x.wkt")
+    >>> [(a.center, a.radius, round(a.sweep, 9)) for a in hole.arcs]
+    [((5.0, 5.0), 2.0, -6.283185307)]
+    """
+    from vectortighten.curves import Loop
+
+    probe = _Parser(text, source)
+    nums = np.array([float(v) for k, v in probe.tokens if k == "num"], dtype=float)
+    if len(nums) and not np.isfinite(nums).all():
+        raise InvalidGeometryError(f"{source}: NaN or infinite coordinates")
+    polys = _PieceReader(probe, 1.0).geometry()
+    if probe.peek()[0] != "end":
+        raise probe.error(f"unexpected {probe.peek()[1]!r} after the geometry")
+    loops = []
+    for rings in polys:
+        for k, ring in enumerate(rings):
+            try:
+                lp = Loop(ring)
+            except ValueError as exc:
+                raise probe.error(str(exc)) from None
+            if (lp.area > 0) != (k == 0) and lp.area != 0:
+                lp = lp.reversed()
+            loops.append(lp)
+    return loops

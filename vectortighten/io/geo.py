@@ -28,9 +28,9 @@ from shapely.geometry import shape
 
 from vectortighten.errors import InvalidGeometryError
 
-from ._common import _read_text, _require, atomic_path
+from ._common import _polygonal, _read_text, _require, atomic_path
 from ._source import Features, Source, crs_units
-from ._wkt_curves import has_curves, read_curved_wkt
+from ._wkt_curves import has_curves, read_curved_wkt, read_curved_wkt_loops
 
 __all__ = ["GEODATA", "geojson_is_plain", "parse_crs", "read_features", "read_source", "read_wkt",
            "result_features", "wkt_text", "write_features"]
@@ -71,6 +71,31 @@ def read_wkt(path: Path, flatten: float | None = None):
             return shapely.from_wkt(text)
     except shapely.errors.ShapelyError as exc:
         raise InvalidGeometryError(f"{path}: malformed WKT ({exc})") from None
+
+
+def read_wkt_source(path: Path, flatten: float | None = None) -> Source:
+    """A WKT file as a `Source`: the polygonal shape (arcs sampled within ``flatten``) and, for curved WKT
+    whose sampled shape is valid, the exact boundary as `Loop`s (`_wkt_curves.read_curved_wkt_loops`).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d) / "s.wkt"
+    ...     _ = p.write_text("CURVEPOLYGON(CIRCULARSTRING(0 0, 4 0, 0 0))")
+    ...     src = read_wkt_source(p)
+    >>> [(a.center, a.radius) for lp in src.loops for a in lp.arcs]
+    [((2.0, 0.0), 2.0)]
+    """
+    text = _read_text(path, "WKT").strip()
+    region = _polygonal(read_wkt(path, flatten), str(path))
+    if not has_curves(text):
+        return Source(region, {"format": "wkt"})
+
+    def exact(text=text, region=region):
+        return read_curved_wkt_loops(text, str(path)) if region.is_valid else None
+
+    return Source(region, {"format": "wkt"}, exact)
 
 
 def wkt_text(result) -> str:
