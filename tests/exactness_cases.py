@@ -115,6 +115,20 @@ def _tie_cases() -> list[Case]:
                 centre = _rot((0.0, 0.0), angle, off)       # anticore for every eps (see sd.corner_gap)
                 out.append(Case(f"{against} gap 2r(1{eps:+g}) {tag}", mk, r, outside=(centre,),
                                 kind="corner gap"))
+    # Placements where a random scan (random angle, offsets up to 1e5) found the general engine wrong:
+    # a neck 2r(1 + 1e-6) whose square's core corner and the fillet beside it are 2r(1 + 1e-13) apart,
+    # which rounding made overlap, so the finish dropped a disk (converged=False, 0.67·r into the
+    # anticore). Ties between disks are decided to the centres' precision now (`tangent_directions`).
+    for angle, off in [(37.0, (-3.6e4, 2.1e4)), (21.475, (6277.288012815955, 68817.87394888674))]:
+        tag = f"a{angle:g}@{off[0]:g},{off[1]:g}"
+        centre = _rot((0.0, 0.0), angle, off)
+        for eps in (1e-6, -1e-6):
+            mk = (lambda r=1.0, eps=eps, angle=angle, off=off: sd.neck(r, eps, angle, off))
+            if eps >= 0:
+                out.append(Case(f"neck 2r(1{eps:+g}) {tag}", mk, 1.0, inside=(centre,), kind="neck"))
+            else:
+                out.append(Case(f"neck 2r(1{eps:+g}) {tag}", mk, 1.0, outside=(centre,), inits=("core",),
+                                kind="neck"))
     return out
 
 

@@ -106,3 +106,35 @@ def test_core_and_fillet_decide_passages_as_the_exact_offsets(case_id, kind, eps
     else:
         parts = shapely.get_num_geometries(vt.core(case.shape, case.r))
         assert parts == (1 if eps >= 0 else 2)
+
+
+def _grafted(shape, r, other):
+    """``vt.tighten(shape, r)`` with the loops and geometry of ``vt.tighten(other, r)`` put in their place:
+    the result an engine that decided ``other``'s passage for ``shape`` would have returned."""
+    import vectortighten as vt
+
+    T, wrong = vt.tighten(shape, r), vt.tighten(other, r)
+    assert T.verify() == []
+    T.loops, T.geometry = wrong.loops, wrong.geometry
+    return T
+
+
+@pytest.mark.parametrize("eps, angle, offset", [
+    (1e-10, 0.0, (0.0, 0.0)), (1e-6, 0.0, (0.0, 0.0)), (1e-3, 0.0, (0.0, 0.0)),
+    # 4e4 from the origin, 2r·1e-10 is below the coordinates' rounding (`exactness_cases._resolvable`)
+    (1e-6, 37.0, (-3.6e4, 2.1e4)), (1e-3, 37.0, (-3.6e4, 2.1e4))])
+def test_verify_reports_a_passage_decided_the_other_way(eps, angle, offset):
+    """Issue 25 item 2: `verify()` makes the exact decision too. A slot 2r(1 + eps) wide closed (the result
+    of the slot 2r(1 − eps) in its place: T bridges its mouth) covers the anticore's centres in the slot;
+    a neck 2r(1 + eps) cut (the result of the neck 2r(1 − eps)) misses the core's centres along it. Each
+    is reported under (a). (Two squares 2r(1 ± eps) apart give the same T either way under init core:
+    the gap's decision shows where the boundary would span it, as at a slot's mouth.)"""
+    from tests import shapes_dense as sd
+
+    r = 1.0
+    closed = _grafted(sd.slot(r, eps, angle, offset), r, sd.slot(r, -eps, angle, offset))
+    assert closed.n_holes == 0 and closed.area > sd.slot(r, eps, angle, offset).area
+    assert any(p.startswith("(a)") and ("covers" in p or "outside the fillet" in p) for p in closed.verify())
+    cut = _grafted(sd.neck(r, eps, angle, offset), r, sd.neck(r, -eps, angle, offset))
+    assert cut.n_components == 2
+    assert any(p.startswith("(a)") and "misses" in p for p in cut.verify())

@@ -811,7 +811,7 @@ class Loop:
 
 
 # -- disks and their tangents ---------------------------------------------------------------------------
-def tangent_directions(centers, sides, r: float):
+def tangent_directions(centers, sides, r: float, precision: float = 0.0):
     """Directions of the tangents joining each disk to the next, for a loop that visits them in order.
 
     Parameters
@@ -822,6 +822,10 @@ def tangent_directions(centers, sides, r: float):
         `Side` of each disk: +1 the loop keeps it on its left, -1 on its right.
     r : float
         Radius of every disk.
+    precision : float, optional
+        How far (same units) each centre may be from where exact arithmetic puts it, e.g. the rounding of
+        the coordinates it was solved from. Two disks on opposite sides that overlap by no more than twice
+        that are a tie: they touch, and the tangent between them has length 0.
 
     Returns
     -------
@@ -830,12 +834,25 @@ def tangent_directions(centers, sides, r: float):
     length : (n,) float
         Its length ``sqrt(d² − k²)`` with ``k = (s[i+1] − s[i])·r``.
     ok : (n,) bool
-        False where the tangent does not exist (``d < |k|`` beyond rounding, or coincident centres).
+        False where the tangent does not exist (``d < |k|`` beyond rounding and ``precision``, or
+        coincident centres).
 
     Notes
     -----
     The tangent leaves disk ``i`` at ``c[i] − s[i]·r·n(phi)`` and reaches disk ``i+1`` at
     ``c[i+1] − s[i+1]·r·n(phi)``, where ``n(phi) = (−sin phi, cos phi)`` is the left normal.
+
+    Examples
+    --------
+    A core disk and an anticore disk of radius 1 whose centres are 2 − 1e-10 apart overlap; they touch
+    (a tie) when their centres are known only to 1e-10:
+
+    >>> c = [(0.0, 0.0), (2.0 - 1e-10, 0.0)]
+    >>> bool(tangent_directions(c, [1, -1], 1.0)[2][0])
+    False
+    >>> phi, length, ok = tangent_directions(c, [1, -1], 1.0, precision=1e-10)
+    >>> bool(ok[0]), float(length[0])
+    (True, 0.0)
     """
     c = np.asarray(centers, dtype=float)
     s = np.asarray(sides, dtype=float)
@@ -843,7 +860,8 @@ def tangent_directions(centers, sides, r: float):
     d = np.hypot(D[:, 0], D[:, 1])
     k = (np.roll(s, -1) - s) * r
     gap = d * d - k * k
-    slack = 1e-12 * (d * d + r * r)
+    # d is known to 2·precision, so d² − k² to about 4·d·precision (plus the rounding of the squares).
+    slack = np.maximum(1e-12 * (d * d + r * r), 4.0 * d * precision)
     ok = (gap >= -slack) & (d > 0)
     length = np.sqrt(np.maximum(gap, 0.0))
     phi = np.arctan2(D[:, 1], D[:, 0]) - np.arctan2(k, length)

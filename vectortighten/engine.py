@@ -701,7 +701,7 @@ def _finish_steps(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndar
         c = ctx.cxy[cid]
         if n == 1:
             return _DiskLoop(cid, side, c, np.zeros(1), np.zeros(1), np.array([_TWO_PI * side[0]]), r)
-        phi, length, ok = tangent_directions(c, side, r)
+        phi, length, ok = tangent_directions(c, side, r, ctx.precision)
         if not ok.all():
             i = int(np.flatnonzero(~ok)[0])
             j = (i + 1) % n
