@@ -45,6 +45,9 @@ def _params(check):
                 marks.append(pytest.mark.xfail(strict=False, reason=reason))
             if c.kind in ("admin", "contour") or c.kind.startswith("embedded"):
                 marks.append(pytest.mark.slow)
+            # The three checks of one result share one evaluation (`_run`'s cache is per process): with
+            # `--dist loadgroup` (pyproject's addopts) xdist sends them to the same worker.
+            marks.append(pytest.mark.xdist_group(key))
             out.append(pytest.param(c.id, init, id=key, marks=marks))
     return out
 

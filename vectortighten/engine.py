@@ -121,13 +121,7 @@ class _Context:
         # r − pen_center of an obstacle, and each find is then decided by the exact piece distance.
         self.osag = OBSTACLE_SAG_R * r
         self.pen = 2.0 * self.osag + self.pen_center
-        E, G = (_m._orient(P) for P in _m._offsets(S, r, self.q_exact))
-        # Every convex vertex of GEOS's shrink (reflex vertex of its grow) stands for a corner of the exact
-        # offsets, off by up to GEOS's simplification (about r/100, more beside near-tangent necks): each
-        # is moved onto the nearest exact corner within `centers.snap_window` (GUIDE_MISSING_R·r at least).
-        window = snap_window(S, r, self.q_exact)
-        self.E = snap_onto(E, self.centers.xy[self.centers.side == 1], 1, window)
-        self.G = snap_onto(G, self.centers.xy[self.centers.side == -1], -1, window)
+        self._EG = None                       # GEOS's shrink and grow, built on first use (`E`, `G`)
         self.cxy, self.cside = _distinct_centers(self.centers.xy, self.centers.side.astype(np.int64), r)
         self._index_centres()
         self._s_edges = None
@@ -156,6 +150,27 @@ class _Context:
         self.violation_cache: dict = {}       # `_violations` outcomes by piece, for the exact finish
 
     # -- morphology, lazily ------------------------------------------------------------------------------
+    # GEOS's shrink E and grow G guide the search; `verify()` on a fast-path result never needs them.
+    @property
+    def E(self):
+        return self._guide_offsets()[0]
+
+    @property
+    def G(self):
+        return self._guide_offsets()[1]
+
+    def _guide_offsets(self):
+        if self._EG is None:
+            E, G = (_m._orient(P) for P in _m._offsets(self.S, self.r, self.q_exact))
+            # Every convex vertex of GEOS's shrink (reflex vertex of its grow) stands for a corner of the
+            # exact offsets, off by up to GEOS's simplification (about r/100, more beside near-tangent
+            # necks): each is moved onto the nearest exact corner within `centers.snap_window`
+            # (GUIDE_MISSING_R·r at least).
+            window = snap_window(self.S, self.r, self.q_exact)
+            self._EG = (snap_onto(E, self.centers.xy[self.centers.side == 1], 1, window),
+                        snap_onto(G, self.centers.xy[self.centers.side == -1], -1, window))
+        return self._EG
+
     # The core and fillet here only guide the search for each loop's homotopy class: the free space is
     # the mortar thickened by δ, and every contact of a finished loop is decided by the exact centres. So
     # they need not contain or be contained in S to the last ulp, as the public `core` and `fillet` are
@@ -1032,7 +1047,21 @@ def _exact_depths(ctx: _Context, L: _DiskLoop, limit: float = 0.0) -> tuple[floa
     li, pj = li[order], pj[order]
     first = np.ones(len(li), dtype=bool)
     first[1:] = (li[1:] != li[:-1]) | (pj[1:] != pj[:-1])
-    for i, j in zip(li[first].tolist(), pj[first].tolist()):
+    li, pj = li[first], pj[first]
+    if len(li):
+        # Nearly every pair is a loop piece resting on an exact piece (distance r, depth 0) or farther:
+        # the vectorised distances set aside those whose depth is clearly at most ``limit``; the others
+        # are decided by the closed form, one by one.
+        is_arc = np.array([k == "arc" for k, _ in pieces], dtype=bool)
+        params = np.array([(*g[0], *g[1], 0.0) if k == "seg" else (*g[0], g[1], g[2], g[3])
+                           for k, g in pieces], dtype=float).reshape(-1, 5)
+        o_arc, o_params = _obstacle_arrays(ctx)
+        d = piece_distances(is_arc[li], params[li], o_arc[pj], o_params[pj])
+        size = 1.0 + r + max(float(np.abs(params[:, :2]).max()), float(np.abs(o_params[:, :2]).max()))
+        margin = 64 * np.finfo(float).eps * size                  # ≫ their rounding
+        keep = ~(r - d - allow[li] <= limit - margin)             # NaN: decide exactly
+        li, pj = li[keep], pj[keep]
+    for i, j in zip(li.tolist(), pj.tolist()):
         side, piece = ctx.opieces[j]
         d, _, _ = piece_distance(pieces[i], piece)
         if r - d - allow[i] > max(depth[side], limit):
@@ -1148,39 +1177,24 @@ class Tightening:
         x0, y0, x1, y1 = self.shape.bounds
         rounding = rounding_length(max(x1 - x0, y1 - y0), max(abs(x0), abs(y0), abs(x1), abs(y1)))
         info = self._exact_context()
-        fast = self._cache.get("_path") == "fast"
-        if info is not None and fast:
-            # The fast path's (a), exactly and without buffers (a buffered reference at a quarter of the
-            # tolerance cost 20–40 times the tightening on dense outlines, all to confirm what (e) and
-            # this test decide exactly): see `_exact_containment`.
-            problems += _exact_containment(*info[:1], self._cache["_frame"], T, self.loops, tol, rounding)
-        elif info is not None:
-            # Reference core and fillet built on the exact centres (the shrink's convex vertices and the
-            # grow's reflex vertices moved onto them), four times finer than the tolerance, in the local
-            # frame. The exact loops may graze the core or the anticore by the engine's penetration
-            # threshold, and the sampled geometry lies within `tolerance` of them.
-            ctx, _ = info
-            frame = self._cache["_frame"]
-            q = quad_segs_for(ctx.r, 0.25 * tol / frame.scale)
-            R = _m._nudge(_m._polygonal(shapely.intersection(_reference_grow(ctx, q, 0.25 * tol / frame.scale),
-                                                             ctx.S)), ctx.S, True) \
-                if not ctx.E.is_empty else Polygon()
-            F = _m._nudge(_m._polygonal(shapely.union(_m._shrink_raw(ctx.G, ctx.r, q), ctx.S)), ctx.S, False)
-            T_loc = frame.to_local(T) if not T.is_empty else T
-            slack = (1.25 * tol + 4.0 * rounding) / frame.scale + ctx.pen
-            tiny = 1e-9
+        if info is not None:
+            # (a) exactly and without buffers, on S's exact offsets, for every path: (e) below measures
+            # the loops' entry into the open core and anticore piece by piece, and then a handful of
+            # point tests decide R ⊆ T ⊆ F (see `_exact_containment`). A buffered reference at a quarter
+            # of the tolerance cost 3–40 times the tightening on dense outlines, and GEOS's fillet, which
+            # simplifies its input, raised false alarms on exact results (a traced 10k-vertex outline).
+            problems += _exact_containment(info[0], self._cache["_frame"], T, self.loops, tol, rounding)
         else:
             R = _m.core(self.shape, r, tolerance=tol / 4)
             F = _m.fillet(self.shape, r, tolerance=tol / 4)
-            T_loc, slack = T, 2 * tol + 4.0 * rounding
+            slack = 2 * tol + 4.0 * rounding
             tiny = 1e-9 * max(x1 - x0, y1 - y0) ** 2
-        if not (info is not None and fast):
-            out_r = R.difference(T_loc.buffer(slack)).area if not R.is_empty else 0.0
+            out_r = R.difference(T.buffer(slack)).area if not R.is_empty else 0.0
             if out_r > tiny:
-                problems.append(f"(a) the tightening misses {out_r:.3g} (local units) of the core's area")
-            out_f = T_loc.difference(F.buffer(slack)).area if not T_loc.is_empty else 0.0
+                problems.append(f"(a) the tightening misses {out_r:.3g} of the core's area")
+            out_f = T.difference(F.buffer(slack)).area if not T.is_empty else 0.0
             if out_f > tiny:
-                problems.append(f"(a) the tightening extends {out_f:.3g} (local units) of area outside the fillet")
+                problems.append(f"(a) the tightening extends {out_f:.3g} of area outside the fillet")
         if not T.is_valid:
             problems.append(f"(b) geometry is invalid: {shapely.is_valid_reason(T)}")
         for i, loop in enumerate(self.loops):
@@ -1288,28 +1302,6 @@ def _rebind(ctx: _Context, L: _DiskLoop) -> _DiskLoop:
     d, j = cKDTree(ctx.cxy).query(L.c)
     cid = np.where(d <= 1e-9 * ctx.r, j, -1)
     return _DiskLoop(cid, L.side, L.c, L.phi, L.length, L.sweep, L.r, L.converged)
-
-
-def _reference_grow(ctx: _Context, q: int, sag: float):
-    """``verify``'s reference for the grown shrink of S (the core before the overlay with S), local frame.
-
-    GEOS's shrink ``ctx.E`` stands off the exact shrink by its chords and its simplification of S (its
-    vertices on a concave arc lie up to ~1.4 chord sags outside it, about the default tolerance), so its
-    grow overshoots the true core by as much, and a tightening sampled at the tolerance was reported as
-    missing the core. The reference is instead the exact pieces (`offsets.exact_offsets`), drawn as
-    polylines within ``sag`` of their arcs and grown by r, together with E itself for the interior that
-    lies farther than r from every piece (E is within a small fraction of r of the exact shrink, so
-    every point of E that stands off it is within r of a piece and already in the grown pieces).
-    """
-    X = ctx.xE
-    angle = 2.0 * math.sqrt(2.0 * max(sag, 1e-12 * ctx.r) / ctx.r)
-    lines = [p for p in X.polylines(min(angle, math.pi / 64)) if len(p) >= 2]
-    if not lines:
-        return _m._grow_raw(ctx.E, ctx.r, q)
-    grown = shapely.buffer(MultiLineString(lines), ctx.r, quad_segs=q)
-    if len(X.corners):
-        grown = shapely.union(grown, shapely.buffer(shapely.multipoints(X.corners), ctx.r, quad_segs=q))
-    return shapely.union(grown, ctx.E)
 
 
 def _exact_containment(ctx: _Context, frame: _Frame, T, loops: list[Loop], tol: float,
