@@ -121,7 +121,8 @@ def _chain(P: _Pieces, tol: float, rightmost: bool = True) -> list[list[int]]:
     n = len(P)
     if n == 0:
         return []
-    cand = cKDTree(P.start).query_ball_point(P.end, tol)
+    tree = cKDTree(P.start)
+    cand = tree.query_ball_point(P.end, tol)
     used = np.zeros(n, dtype=bool)
     cycles = []
     sign = 1.0 if rightmost else -1.0
@@ -133,9 +134,12 @@ def _chain(P: _Pieces, tol: float, rightmost: bool = True) -> list[list[int]]:
         while True:
             cs = [j for j in cand[cur] if not used[j] or j == first]
             if not cs:
-                x, y = P.end[cur]
-                raise RuntimeError(f"exact offsets do not close: a piece ends at ({x:.17g}, {y:.17g}) where "
-                                   "no piece starts")
+                j = _collinear_next(P, tree, cur, used, first, tol)
+                if j is None:
+                    x, y = P.end[cur]
+                    raise RuntimeError(f"exact offsets do not close: a piece ends at ({x:.17g}, {y:.17g}) "
+                                       "where no piece starts")
+                cs = [j]
             if len(cs) > 1:
                 cs_a = np.array(cs)
                 key = sign * _turn(P.t1[cur][None, :], P.t0[cs_a], back=sign * math.pi)
@@ -150,6 +154,44 @@ def _chain(P: _Pieces, tol: float, rightmost: bool = True) -> list[list[int]]:
             cycle.append(j)
             cur = j
     return cycles
+
+
+def _collinear_next(P: _Pieces, tree, cur: int, used: np.ndarray, first: int, tol: float) -> int | None:
+    """The piece that continues ``cur`` across an ill-conditioned join, welded to it; None if there is none.
+
+    Two offset segments of nearly collinear edges of S (a traced contour's staircase of tiny steps) meet
+    at the crossing of two lines whose directions differ by α: each piece's end there is known only to
+    about ``tol / α`` along the line, and the two ends may miss each other by far more than ``tol``. The
+    continuation is a segment that starts within ``tol`` of the line of ``cur``, ahead of its end by less
+    than ``tol / α`` (and less than half of either segment), turning by α < 1e-4 rad: both ends slide
+    along their lines to the midpoint (within the join's own uncertainty).
+    """
+    if P.arc[cur]:
+        return None
+    t = P.t1[cur]
+    ln_cur = float(np.hypot(*(P.end[cur] - P.start[cur])))
+    best, best_gap = None, math.inf
+    for j in tree.query_ball_point(P.end[cur], 0.5 * ln_cur):
+        if (used[j] and j != first) or P.arc[j] or j == cur:
+            continue
+        v = P.start[j] - P.end[cur]
+        gap = float(np.hypot(*v))
+        alpha = abs(float(_turn(t, P.t0[j])))
+        if alpha > 1e-4 or abs(t[0] * v[1] - t[1] * v[0]) > tol:
+            continue
+        if gap > min(tol / max(alpha, 1e-300), 0.5 * float(np.hypot(*(P.end[j] - P.start[j])))):
+            continue
+        if gap < best_gap:
+            best, best_gap = j, gap
+    if best is not None:
+        # Each end slides along its own line (the directions, and so the joins at the far ends, stay) to
+        # the foot of the midpoint: the two ends then meet within tol, as every other join does.
+        m = 0.5 * (P.end[cur] + P.start[best])
+        for k, cols, at in ((cur, slice(2, 4), P.end), (best, slice(0, 2), P.start)):
+            u = P.t0[k]
+            foot = P.start[k] + ((m - P.start[k]) @ u) * u
+            at[k] = P.data[k, cols] = foot
+    return best
 
 
 def _isolated(E: OffsetPieces, P: _Pieces, tol: float) -> np.ndarray:
@@ -174,13 +216,14 @@ def _reversed(loop: Loop) -> Loop:
     return Loop([p.reversed() for p in reversed(loop.pieces)], atol=math.inf)
 
 
-def _offset_rows(P: _Pieces, cycle: list[int], r: float):
+def _offset_rows(P: _Pieces, cycle: list[int], r: float, tol: float = 0.0):
     """The outward offset by r of one chained loop of ``∂X`` (X on its left), piece by piece.
 
     Returns ``(rows, is_arc, is_corner)``: rows as `Loop` holds them; ``is_corner`` marks the arcs about
     corners of X (the only pieces that other parts of ``X ⊕ D`` can cover). At a right turn (two parts of
     X touching at a point) the arc about the point runs backwards there; the clipping removes what of it
-    is covered.
+    is covered. A corner arc shorter than ``tol`` (a turn of ~1e-12 rad where two nearly collinear pieces
+    meet) is left out: the offsets on either side of it meet within ``tol``, as chained pieces do.
     """
     idx = np.asarray(cycle)
     nxt = np.roll(idx, -1)
@@ -201,7 +244,7 @@ def _offset_rows(P: _Pieces, cycle: list[int], r: float):
             kinds.append(False)
             corner.append(False)
         t = float(tau[k])
-        if abs(t) > _JOIN_ANGLE:
+        if abs(t) > _JOIN_ANGLE and r * abs(t) > tol:
             tx, ty = P.t1[i]
             cx, cy = P.end[i]
             rows.append((cx, cy, r, math.atan2(-tx, ty), t))
@@ -316,7 +359,7 @@ def _opened(P: _Pieces, cycles: list[list[int]], lone: np.ndarray, r: float, eps
     """
     rows, kinds, corner = [], [], []
     for c in cycles:
-        a, b, k = _offset_rows(P, c, r)
+        a, b, k = _offset_rows(P, c, r, tol)
         rows += a
         kinds += b
         corner += k
