@@ -688,3 +688,19 @@ def test_fuzz_radius_and_tolerance_values(r, tol):
     except vt.TighteningError:
         return
     assert T.verify() == []
+
+
+def test_square_exactly_2r_wide_with_a_spike_keeps_its_disk():
+    """Found by the long fuzz profile (seed 51) once verify() decided (a) on the exact offsets: a 10 × 10
+    square with a zero-width spike at r = 5 has the single point (5, 5) as its closed shrink. GEOS's
+    shrink is empty, the spike sends the shape to the general engine, and the guide core (and `vt.core`)
+    came back empty: T was empty, converged, and only verify() said the core was missed. Isolated corners
+    of the exact offsets that GEOS lacks are given back like its missing pieces (`centers.missing_lines`)."""
+    S = shapely.from_wkt("POLYGON ((0 0, 1 0, 1.0000000000005 -5, 1.000000000001 0, 10 0, 10 10, 0 10, 0 0))")
+    T = vt.tighten(S, 5.0)
+    assert T.converged and T.verify() == []
+    assert T.n_components == 1 and abs(T.area - 25 * math.pi) < 1e-9
+    R = vt.core(S, 5.0)
+    # the disk by chords within the default tolerance 1e-5·r: the area short by at most perimeter × tolerance
+    assert 0 <= 25 * math.pi - R.area <= 2 * math.pi * 5.0 * 5e-5
+    assert R.centroid.distance(shapely.Point(5, 5)) < 1e-9

@@ -245,7 +245,8 @@ def snap_onto(P, cxy: np.ndarray, side: int, window: float):
 
 
 def missing_lines(X, P, r: float, far_r: float, max_angle: float):
-    """The pieces of the exact offsets ``X`` of one side that GEOS's buffer ``P`` lacks, as lines, or None.
+    """The pieces and corners of the exact offsets ``X`` of one side that GEOS's buffer ``P`` lacks, as lines
+    and points, or None.
 
     ``P`` is GEOS's shrink of S (side +1) or its grow (side −1). The closed shrink keeps the parts of S
     exactly 2r wide (their shrink is a centre line) and the grow's complement the gaps exactly 2r wide;
@@ -256,20 +257,26 @@ def missing_lines(X, P, r: float, far_r: float, max_angle: float):
     the error of a buffer of the lines).
     """
     lines = X.polylines(max_angle)
-    if not lines:
+    # The corners too: an isolated point of the closed shrink (a square exactly 2r wide: its centre) is
+    # a corner on no piece, and GEOS's shrink is empty there. A corner on a piece is found with it.
+    corners = np.asarray(X.corners, dtype=float).reshape(-1, 2)
+    if not lines and not len(corners):
         return None
-    mids = shapely.points(np.array([0.5 * (pl[0] + pl[-1]) if len(pl) == 2 else pl[len(pl) // 2]
-                                    for pl in lines]))
+    mids = np.array([0.5 * (pl[0] + pl[-1]) if len(pl) == 2 else pl[len(pl) // 2] for pl in lines]
+                    ).reshape(-1, 2)
+    pts = shapely.points(np.concatenate([mids, corners]))
     far = far_r * r
     if P.is_empty:
-        keep = np.ones(len(lines), dtype=bool) if X.side > 0 else np.zeros(len(lines), dtype=bool)
+        keep = np.full(len(pts), X.side > 0)
     elif X.side > 0:
-        keep = ~shapely.dwithin(P, mids, far)
+        keep = ~shapely.dwithin(P, pts, far)
     else:
-        keep = shapely.contains(P, mids) & ~shapely.dwithin(P.boundary, mids, far)
+        keep = shapely.contains(P, pts) & ~shapely.dwithin(P.boundary, pts, far)
     if not keep.any():
         return None
-    return shapely.union_all(np.array([shapely.linestrings(pl) for pl, k in zip(lines, keep) if k]))
+    geoms = [shapely.linestrings(pl) for pl, k in zip(lines, keep[:len(lines)]) if k]
+    geoms += list(shapely.points(corners[keep[len(lines):]]))
+    return shapely.union_all(np.array(geoms))
 
 
 def snap_window(S, r: float, q: int) -> float:
