@@ -61,6 +61,18 @@ def check_loops(loops):
         assert (lp.total_turn > 0) == (lp.area > 0)
 
 
+def check_core_and_fillet_areas(S, d, rel_area):
+    """The exact core and fillet are checked loops whose areas are the buffers' (at 1e-6·d) to the chords'
+    sag along their arcs, plus ``rel_area`` of S's area."""
+    tol = 1e-6 * d
+    for exact_fn, fn in ((exact_core, m.core), (exact_fillet, m.fillet)):
+        loops = exact_fn(S, d)
+        check_loops(loops)
+        ref = fn(S, d, tolerance=tol)
+        arcs = math.fsum(a.length for lp in loops for a in lp.arcs)
+        assert abs(total_area(loops) - ref.area) <= arcs * tol + rel_area * S.area
+
+
 # -- hand-derived cases -----------------------------------------------------------------------------------
 def test_square_shrink_is_a_square():
     [L] = m.shrink(box(0, 0, 4, 4), 1.0, exact=True)
@@ -187,13 +199,7 @@ def test_dense_outlines_with_nearly_collinear_edges(make, d):
     for loops in (m.shrink(S, d, exact=True), m.grow(S, d, exact=True)):
         assert loops
         assert distance_error(S, loops, d) < 1e-12
-    tol = 1e-6 * d
-    for exact_fn, fn in ((exact_core, m.core), (exact_fillet, m.fillet)):
-        loops = exact_fn(S, d)
-        check_loops(loops)
-        ref = fn(S, d, tolerance=tol)
-        arcs = math.fsum(a.length for lp in loops for a in lp.arcs)
-        assert abs(total_area(loops) - ref.area) <= arcs * tol + 1e-6 * S.area
+    check_core_and_fillet_areas(S, d, 1e-6)
 
 
 @settings(max_examples=25, deadline=None)
@@ -252,13 +258,7 @@ def test_random_polygons_areas_against_buffers(S, rel):
 def test_pixel_staircase_core_and_fillet_areas(seed):
     S = check_shape(pixel_blob(40, seed=seed))
     for d in (1.0, 2.5):
-        tol = 1e-6 * d
-        for exact_fn, fn in ((exact_core, m.core), (exact_fillet, m.fillet)):
-            loops = exact_fn(S, d)
-            check_loops(loops)
-            ref = fn(S, d, tolerance=tol)
-            arcs = math.fsum(a.length for lp in loops for a in lp.arcs)
-            assert abs(total_area(loops) - ref.area) <= arcs * tol + 1e-9 * S.area
+        check_core_and_fillet_areas(S, d, 1e-9)
 
 
 def test_core_loops_lie_in_s_and_fillet_loops_outside():
