@@ -176,8 +176,12 @@ def test_mason_pieces_are_attached_ring_by_ring_as_the_whole_overlay_would():
     whole = m._polygonal(shapely.union(m._polygonal(shapely.intersection(shapely.union_all([R, *pieces]), F)), R))
     local = m._attach(R, pieces, F)
     assert local is not None and local.is_valid
-    assert len(shapely.get_parts(local)) == len(shapely.get_parts(whole)) == 1
-    assert len(local.interiors) == len(whole.interiors)
+    # One part with the square's 4 holes. The overlay of the whole may keep a pocket that meets R along
+    # a stretch of one of S's edges as a part of its own, touching the rest: the pocket's side and R's
+    # lie on that edge only to rounding. It is the same set.
+    assert len(shapely.get_parts(local)) == 1 and len(local.interiors) == 4
+    main, *loose = sorted(shapely.get_parts(whole), key=lambda g: -g.area)
+    assert len(main.interiors) == 4 and all(g.distance(main) == 0.0 for g in loose)
     assert abs(local.area - whole.area) <= 1e-12 * whole.area
     assert local.symmetric_difference(whole).area <= 1e-12 * whole.area
     two = box(0, 0, 1, 1).union(box(2, 0, 3, 1))
@@ -331,8 +335,12 @@ def test_verify_decides_the_core_on_the_exact_pieces():
     S, r = shapely.from_wkt(FAR_STAR), 2.7637531318213853e-06
     T = right_or_loud(S, r, init="core")
     assert T is not None and T.converged
-    # Independently: the public core (at a finer tolerance) lies within the sampling tolerance of T.
-    R = vt.core(S, r, tolerance=T.tolerance / 4)
+    # Independently: GEOS's opening snapped onto the exact corners (at a finer tolerance; the public core
+    # is now the exact loops', as is the engine's judge) lies within the sampling tolerance of T.
+    from vectortighten import morphology as m
+
+    tol = T.tolerance / 4
+    R = m._core(m._orient(S), r, m.quad_segs_for(r, tol), sampled=False)
     assert R.difference(T.geometry.buffer(2 * T.tolerance)).area <= 1e-9 * R.area
 
 

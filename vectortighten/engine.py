@@ -1368,6 +1368,9 @@ def _assemble_valid(loops: list[Loop], tol: float):
     """
     sign = [lp._orientation() for lp in loops]
     ring = [lp.sample(tol) if s else None for lp, s in zip(loops, sign, strict=True)]
+    # A loop sampled to fewer than three points (a lens of two arcs, each within ``tol`` of its chord)
+    # is narrower than 2·tol: left out, as chords within ``tol`` would.
+    sign = [s if s == 0 or len(np.unique(c, axis=0)) >= 3 else 0 for s, c in zip(sign, ring, strict=True)]
     outers = [(k, Polygon(ring[k])) for k in range(len(loops)) if sign[k] > 0]
     holes = [(k, Polygon(ring[k])) for k in range(len(loops)) if sign[k] < 0]
     if not outers:

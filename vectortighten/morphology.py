@@ -1,9 +1,11 @@
 """The paper's morphological operations on shapely polygons, with exact set relations.
 
 Every function takes a shapely (Multi)Polygon ``S`` and a radius ``r > 0`` in the shape's units, and
-returns a valid shapely geometry. Circular arcs are replaced by chords no farther than ``tolerance`` from
-them (default `DEFAULT_TOLERANCE_R`·r, i.e. 1e-5·r); the number of chords per quarter circle handed to
-shapely (``quad_segs``) is derived from it.
+returns a valid shapely geometry. The shrink, grow, core and fillet are S's exact boundaries
+(`exact_morphology`, built from S's own edges in closed form) with their circular arcs replaced by
+chords no farther than ``tolerance`` from them (default `DEFAULT_TOLERANCE_R`·r, i.e. 1e-5·r); GEOS's
+buffers, at the matching number of chords per quarter circle (``quad_segs``), are used only where that
+construction is not available and for Mason's second opening and closing.
 
 Chord-approximated buffers alone break the inclusions the paper relies on (``S.buffer(-r).buffer(r)``
 sticks out of an L-shape by ~1e-5 with shapely's defaults). Here they hold exactly:
@@ -14,6 +16,8 @@ fillet ``F_r(S) = S↑r↓r`` (closing), mortar ``M_r(S) = F_r(S) − R_r(S)``, 
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import shapely
@@ -93,8 +97,75 @@ def _exact(S: Polygonal, r: float, side: int):
     return exact_offsets(_orient(S), r, side)
 
 
+def _sampled(S: Polygonal, r: float, q: int, operation: str, exact=None) -> Polygonal | None:
+    """``operation`` of S sampled from its exact boundary (`exact_morphology`), or None where that is not
+    available; ``exact``: S's `exact_offsets` of the side the operation needs, if already computed.
+
+    The loops are S's own offsets in closed form (segments on or parallel to S's edges, arcs of radius
+    r), each arc sampled by chords within the sagitta of GEOS's ``quad_segs = q``, so the result has the
+    same resolution as a buffer's. GEOS's buffers simplify their input by up to r/100 and lose parts
+    exactly 2r wide; on a traced staircase their grow reaches 0.7 % of r beyond S↑r, and at small radii
+    they cost up to 60 times as much. None where the exact construction is not defined (two parts of the
+    shrink touching at one point) or its sampling is not a valid polygon: the caller falls back on GEOS's,
+    snapped onto the exact corners.
+    """
+    from .engine import _assemble_valid
+    from .exact_morphology import _loops_of
+
+    try:
+        loops = _loops_of(_orient(S), r, operation, exact)
+    except (RuntimeError, ValueError, FloatingPointError):
+        return None
+    if not loops:
+        return Polygon()
+    geom, _ = _assemble_valid(loops, r * (1.0 - math.cos(math.pi / (4 * q))))
+    if operation in ("core", "fillet"):
+        geom = _pinned(geom, S)
+    return geom if geom.is_valid else None
+
+
+def _pinned(geom: Polygonal, S: Polygonal) -> Polygonal:
+    """``geom`` with its vertices that lie within S's offset precision of a vertex of S moved onto it.
+
+    The core and the fillet pass through vertices of S (a reflex corner that survives in the core, a
+    convex one in the fillet, a vertex that a disk of the anticore touches): where the exact boundary
+    reaches one from an arc's end, computed from its angle, it lands a few ulps beside it, and the overlay
+    with S that puts the set on the right side of it would node the difference into a spike.
+    """
+    from scipy.spatial import cKDTree
+
+    from .offsets import precision_of
+
+    own = np.unique(shapely.get_coordinates(S), axis=0)
+    coords = shapely.get_coordinates(geom)
+    if not len(own) or not len(coords):
+        return geom
+    eps = precision_of(S)
+    d, i = cKDTree(own).query(coords, distance_upper_bound=eps)
+    found = np.isfinite(d)
+    near = found.copy()                   # (not d > 0: a difference of 1e-183 squares to 0)
+    near[found] = np.any(coords[found] != own[i[found]], axis=1)
+    coords[near] = own[i[near]]
+    # The ends of arcs tangent to an edge of S, computed from their angles, onto the edge.
+    rest = ~found
+    a, b = _edges(_orient(S))
+    tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
+    j, dist = tree.query_nearest(shapely.points(coords[rest]), all_matches=False, return_distance=True)
+    k = np.flatnonzero(rest)[j[0]]
+    on = (dist > 0) & (dist <= eps)
+    k, e = k[on], j[1][on]
+    if len(k):
+        dd = b[e] - a[e]
+        t = np.einsum("ij,ij->i", coords[k] - a[e], dd) / np.einsum("ij,ij->i", dd, dd)
+        coords[k] = a[e] + t[:, None] * dd
+    if not near.any() and not len(k):
+        return geom
+    return shapely.remove_repeated_points(shapely.set_coordinates(shapely.from_wkb(shapely.to_wkb(geom)), coords), 0.0)
+
+
 def _grow(S: Polygonal, r: float, q: int, exact=None) -> Polygonal:
-    """``S↑r`` with its reflex vertices moved onto the exact corners of S's exact offsets (side −1).
+    """``S↑r`` sampled from its exact boundary (`_sampled`); where that is not available, GEOS's with its
+    reflex vertices moved onto the exact corners of S's exact offsets (side −1).
 
     ``exact``: `_exact(S, r, -1)` if already computed. The rule is the engine's guide's
     (`centers.snap_onto`): each reflex vertex of GEOS's grow within `centers.snap_window` of an exact
@@ -103,11 +174,13 @@ def _grow(S: Polygonal, r: float, q: int, exact=None) -> Polygonal:
     from .centers import snap_onto, snap_window
 
     X = _exact(S, r, -1) if exact is None else exact
-    return snap_onto(_grow_raw(S, r, q), X.corners, -1, snap_window(S, r, q))
+    G = _sampled(S, r, q, "grow", X)
+    return G if G is not None else snap_onto(_grow_raw(S, r, q), X.corners, -1, snap_window(S, r, q))
 
 
 def _shrink(S: Polygonal, r: float, q: int, exact=None) -> Polygonal:
-    """``S↓r`` with its convex vertices moved onto the exact corners of S's exact offsets (side +1).
+    """``S↓r`` sampled from its exact boundary (`_sampled`); where that is not available, GEOS's with its
+    convex vertices moved onto the exact corners of S's exact offsets (side +1).
 
     GEOS simplifies a buffer's input, which can cut a corner that has a vertex within a hundredth of r
     next to it (the offset corner then lands up to ~r/100 off); the exact corners (`offsets.exact_offsets`,
@@ -117,7 +190,8 @@ def _shrink(S: Polygonal, r: float, q: int, exact=None) -> Polygonal:
     from .centers import snap_onto, snap_window
 
     X = _exact(S, r, 1) if exact is None else exact
-    return snap_onto(_shrink_raw(S, r, q), X.corners, 1, snap_window(S, r, q))
+    E = _sampled(S, r, q, "shrink", X)
+    return E if E is not None else snap_onto(_shrink_raw(S, r, q), X.corners, 1, snap_window(S, r, q))
 
 
 # GEOS offsets a ring in one piece and nodes the raw offset curve against itself. On a jagged outline (a
@@ -263,13 +337,19 @@ def _nudge(geom: Polygonal, S: Polygonal, into: bool) -> Polygonal:
     k = coords[:, 0] + 1j * coords[:, 1]
     own = keys[np.clip(np.searchsorted(keys, k), 0, len(keys) - 1)] == k
     eps = 8.0 * np.finfo(float).eps * max(1.0, float(np.abs(coords).max()))
-    for _ in range(8):
+    # First only the vertices strictly on the wrong side; those on S's boundary too only if that is not
+    # enough (moving them opens a sliver of a few ulps along S's edges, which overlays then carry on).
+    strict = True
+    for _ in range(9):
         x, y = coords[:, 0], coords[:, 1]
         if into:
-            bad = ~shapely.contains_xy(S, x, y) & ~own
+            bad = ~(shapely.intersects_xy if strict else shapely.contains_xy)(S, x, y) & ~own
         else:
-            bad = shapely.intersects_xy(S, x, y) & ~own
+            bad = (shapely.contains_xy if strict else shapely.intersects_xy)(S, x, y) & ~own
         if not bad.any():
+            if strict:
+                strict = False
+                continue
             break
         if tree is None:
             tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
@@ -295,16 +375,22 @@ def _nudge(geom: Polygonal, S: Polygonal, into: bool) -> Polygonal:
     return geom
 
 
-def _core(S: Polygonal, r: float, q: int, centres: bool = True, exact=None) -> Polygonal:
-    """The core from GEOS's shrink, snapped onto the exact corners and given back the exact pieces GEOS
-    loses (parts exactly 2r wide, whose closed shrink is a centre line: `centers.missing_lines`). With
-    ``centres=False``, GEOS's shrink as it is (Mason's second opening, where its vertices are kept).
-    ``exact``: S's exact shrink (`_exact(S, r, 1)`) if already computed."""
-    from .centers import missing_lines
+def _core(S: Polygonal, r: float, q: int, centres: bool = True, exact=None, sampled: bool = True) -> Polygonal:
+    """The core sampled from its exact boundary (`_sampled`), inside S. Where that is not available, from
+    GEOS's shrink, snapped onto the exact corners and given back the exact pieces GEOS loses (parts
+    exactly 2r wide, whose closed shrink is a centre line: `centers.missing_lines`). With
+    ``centres=False``, GEOS's opening as it is (Mason's second opening, where its vertices are kept);
+    ``sampled=False``, the GEOS construction even where the exact one is available (a reference
+    independent of `exact_morphology`, for the tests). ``exact``: S's exact shrink (`_exact(S, r, 1)`)
+    if already computed."""
+    from .centers import missing_lines, snap_onto, snap_window
 
     if centres:
         exact = _exact(S, r, 1) if exact is None else exact
-        E = _shrink(S, r, q, exact)
+        R = _sampled(S, r, q, "core", exact) if sampled else None
+        if R is not None:
+            return _orient(_nudge(_polygonal(shapely.intersection(R, S)), S, into=True)) if not R.is_empty else R
+        E = snap_onto(_shrink_raw(S, r, q), exact.corners, 1, snap_window(S, r, q))
     else:
         E = _shrink_raw(S, r, q)
     R = _grow_raw(E, r, q) if not E.is_empty else Polygon()
@@ -318,15 +404,20 @@ def _core(S: Polygonal, r: float, q: int, centres: bool = True, exact=None) -> P
     return _orient(_nudge(R, S, into=True))
 
 
-def _fillet(S: Polygonal, r: float, q: int, centres: bool = True, exact=None) -> Polygonal:
-    """The fillet from GEOS's grow, snapped onto the exact corners, with the gaps GEOS closes that an
-    r-disk passes (exactly 2r wide or wider by any margin: `centers.missing_lines`) opened again. With
-    ``centres=False``, GEOS's grow as it is. ``exact``: `_exact(S, r, -1)` if already computed."""
-    from .centers import missing_lines
+def _fillet(S: Polygonal, r: float, q: int, centres: bool = True, exact=None, sampled: bool = True) -> Polygonal:
+    """The fillet sampled from its exact boundary (`_sampled`), around S. Where that is not available,
+    from GEOS's grow, snapped onto the exact corners, with the gaps GEOS closes that an r-disk passes
+    (exactly 2r wide or wider by any margin: `centers.missing_lines`) opened again. With
+    ``centres=False``, GEOS's closing as it is; ``sampled=False``, the GEOS construction even where the
+    exact one is available. ``exact``: `_exact(S, r, -1)` if already computed."""
+    from .centers import missing_lines, snap_onto, snap_window
 
     if centres:
         exact = _exact(S, r, -1) if exact is None else exact
-        G = _grow(S, r, q, exact)
+        F = _sampled(S, r, q, "fillet", exact) if sampled else None
+        if F is not None:
+            return _orient(_nudge(_polygonal(shapely.union(F, S)), S, into=False))
+        G = snap_onto(_grow_raw(S, r, q), exact.corners, -1, snap_window(S, r, q))
     else:
         G = _grow_raw(S, r, q)
     F = shapely.union(_shrink_raw(G, r, q), S)
@@ -339,6 +430,9 @@ def _fillet(S: Polygonal, r: float, q: int, centres: bool = True, exact=None) ->
 
 def grow(S, r: float, *, tolerance: float | None = None, exact: bool = False) -> Polygonal | list:
     """Grow ``S`` by ``r``: ``S↑r``, the points at distance < r from S (dilation by an open disk).
+
+    The exact boundary (segments parallel to S's edges, arcs of radius r about its convex vertices) with
+    its arcs sampled by chords within ``tolerance``.
 
     Parameters
     ----------
@@ -377,7 +471,8 @@ def grow(S, r: float, *, tolerance: float | None = None, exact: bool = False) ->
 def shrink(S, r: float, *, tolerance: float | None = None, exact: bool = False) -> Polygonal | list:
     """Shrink ``S`` by ``r``: ``S↓r``, the points at distance ≥ r from ¬S (erosion); may be empty.
 
-    Its convex vertices are the centres of the core's convex arcs (see `arc_centers`).
+    Its convex vertices are the centres of the core's convex arcs (see `arc_centers`). The exact
+    boundary with its (concave) arcs sampled by chords within ``tolerance``.
 
     Parameters
     ----------
@@ -418,7 +513,11 @@ def shrink(S, r: float, *, tolerance: float | None = None, exact: bool = False) 
 def core(S, r: float, *, tolerance: float | None = None, exact: bool = False) -> Polygonal | list:
     """The core ``R_r(S) = S↓r↑r``: the union of all disks of radius r inside S (opening).
 
-    Exactly contained in S (the chord-approximated opening is intersected with S), and valid.
+    Its exact boundary (S's surviving edges, arcs of radius r about the shrink's corners: what
+    ``exact=True`` returns) with every arc replaced by chords within ``tolerance``, which lie inside the
+    disks; exactly contained in S, and valid. No buffer is involved unless that construction is not
+    available (two parts of the shrink touching at one point): then GEOS's opening, snapped onto the
+    exact corners.
 
     Parameters
     ----------
@@ -458,7 +557,9 @@ def core(S, r: float, *, tolerance: float | None = None, exact: bool = False) ->
 def fillet(S, r: float, *, tolerance: float | None = None, exact: bool = False) -> Polygonal | list:
     """The fillet ``F_r(S) = S↑r↓r``: the complement of all disks of radius r in ¬S (closing).
 
-    Exactly contains S (the chord-approximated closing is united with S), and valid.
+    Its exact boundary (what ``exact=True`` returns) with every arc replaced by chords within
+    ``tolerance``; exactly contains S, and valid. GEOS's closing, snapped onto the exact corners, only
+    where that construction is not available.
 
     Parameters
     ----------
