@@ -265,3 +265,19 @@ def test_cli_bad_radii_exit_2_with_one_line(l_wkt, tmp_path, capsys, args, words
     assert info.value.code == 2 and not (tmp_path / "o.wkt").exists()
     err = capsys.readouterr().err
     assert words in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_the_final_check_flags_a_gross_failure(monkeypatch):
+    """Every two-radii result gets the cheap containment check that one radius gets (`_guard`)."""
+    from vectortighten import two_radii
+
+    real = two_radii._fast.fast_disk_loops
+
+    def shifted(*args, **kwargs):
+        out = real(*args, **kwargs)
+        return [(x[0] + (0.05, 0.0),) + tuple(x[1:]) for x in out]         # every disk moved sideways
+
+    monkeypatch.setattr(two_radii._fast, "fast_disk_loops", shifted)
+    with pytest.warns(vt.ConvergenceWarning, match="final check"):
+        T = vt.tighten(L_SHAPE, (0.5, 1.5))
+    assert not T.converged

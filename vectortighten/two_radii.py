@@ -34,8 +34,8 @@ from . import _convex, _fast
 from . import morphology as _m
 from .curves import Loop
 from .engine import Tightening
-from .errors import InvalidRadiusError, TighteningError, TighteningFailedError
-from .tolerances import CORNER_ANGLE, EXACT_CHORD_R, TOUCH_SCALE, rounding_length
+from .errors import ConvergenceWarning, InvalidRadiusError, TighteningError, TighteningFailedError
+from .tolerances import CORNER_ANGLE, EXACT_CHORD_R, THICKEN_R, TOUCH_SCALE, rounding_length
 
 __all__ = ["TwoRadiiNotSupportedError", "TwoRadiiTightening", "is_pair", "parse_radii", "two_radii_morphology"]
 
@@ -270,7 +270,8 @@ def tighten_two_radii(S, radii, *, init="core", tolerance: float | None = None):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            return _tighten_pair(S, a, b, init, tol)
+            result = _tighten_pair(S, a, b, init, tol)
+            problems = _final_check(result)
     except (MemoryError, TighteningError):
         raise
     except Exception as exc:
@@ -278,6 +279,38 @@ def tighten_two_radii(S, radii, *, init="core", tolerance: float | None = None):
         raise TighteningFailedError(
             f"the engine could not tighten this shape at r = ({a:g}, {b:g}) ({type(exc).__name__}"
             f"{': ' + text if text else ''}); please report it with the shape") from exc
+    if problems:
+        result.converged = False
+        warnings.warn(f"the result fails its final check ({'; '.join(problems)}): returned with "
+                      "converged=False (Tightening.verify() lists where)", ConvergenceWarning, stacklevel=3)
+    return result
+
+
+def _final_check(T) -> list[str]:
+    """The cheap check made on every result, as `_guard.containment_problems` makes it for one radius:
+    ``R_a ⊆ T ⊆ F_b`` against coarse buffers (4 chords a quarter circle) in the local frame. The loops
+    are certified by the fast path's exact tests; this only catches a gross failure."""
+    from ._guard import _AREA_R2, _COARSE_QUAD_SEGS, _coarse
+
+    frame = T._cache["_frame"]
+    S = frame.to_local(T.shape)
+    a, b = (x / frame.scale for x in T.radii)
+    r, q = max(a, b), _COARSE_QUAD_SEGS
+    R = shapely.intersection(S.buffer(-a, quad_segs=q).buffer(a, quad_segs=q), S) if a > 0 else S
+    F = shapely.union(S.buffer(b, quad_segs=q).buffer(-b, quad_segs=q), S) if b > 0 else S
+    slack = T.tolerance / frame.scale + 2.0 * r * (1.0 - math.cos(math.pi / (4 * q))) + 2.0 * THICKEN_R * r
+    tiny = _AREA_R2 * r * r
+    G = frame.to_local(_coarse(T.loops, 0.25 * slack * frame.scale)) if T.loops else Polygon()
+    problems = []
+    if not R.is_empty:
+        missed = shapely.difference(R.buffer(-0.75 * slack, quad_segs=2), G).area if not G.is_empty else R.area
+        if missed > tiny:
+            problems.append(f"it misses {missed / (r * r):.3g}·r² of the core R_a")
+    if not G.is_empty:
+        outside = shapely.difference(G, F.buffer(0.75 * slack, quad_segs=2)).area
+        if outside > tiny:
+            problems.append(f"{outside / (r * r):.3g}·r² of it lies outside the fillet F_b")
+    return problems
 
 
 def _not_supported(a: float, b: float, why: str) -> TwoRadiiNotSupportedError:
