@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 import shapely
+import shapely.affinity
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from shapely.geometry import MultiPolygon, Polygon, box
@@ -171,6 +172,17 @@ def test_verify_reports_a_tampered_result():
 
 
 DUMBBELL = box(0, 0, 4, 4).union(box(4, 1.6, 8, 2.4)).union(box(8, 0, 12, 4))
+
+
+@pytest.mark.parametrize("a, b", [(0.5, 1.5), (0.0, 1.5), (0.5, 0.0)])
+def test_verify_reports_a_moved_result(a, b):
+    """(a) on the exact offsets: the loops moved sideways miss the core and cover the anticore."""
+    T = vt.tighten(FRAME, (a, b))
+    T.loops = [lp.affine(1.0, 0.7, 0.0) for lp in T.loops]
+    T.geometry = shapely.affinity.translate(T.geometry, 0.7, 0.0)
+    problems = T.verify()
+    assert any(p.startswith("(a)") for p in problems)
+    assert any("not the one the exact tests certify" in p for p in problems)
 
 
 @pytest.mark.parametrize("S, init, why", [

@@ -223,13 +223,9 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
     radius of every disk (0: the vertex itself, a sharp corner).
     """
     D = _Rings(S, r, precision, radii)
-    if not D.ok:
+    if not D.ok or (np.abs(D.theta) > math.pi - 1e-6).any():
+        # A spike: no disk fits its corner (kept sharp by a radius 0, its two sides would touch).
         return None
-    spike = np.abs(D.theta) > math.pi - 1e-6
-    if D.pair:
-        spike &= D.rv > 0                               # a corner kept sharp needs no room
-    if spike.any():
-        return None                                     # a spike: no disk fits its corner
     if (D.length < -1e-12 * np.maximum(D.ell, r)).any():
         return None                                     # two disks do not fit on one edge
     length = np.maximum(D.length, 0.0)

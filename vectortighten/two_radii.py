@@ -161,8 +161,8 @@ class TwoRadiiTightening(Tightening):
     def verify(self) -> list[str]:
         """Check DESIGN §7 for two radii; return the list of violations (empty if valid).
 
-        (a) ``R_a(S) ⊆ T ⊆ F_b(S)`` against buffered references at a quarter of the tolerance; (b) valid
-        geometry, loops pairwise apart; (c) every arc turning left has radius a and every arc turning
+        (a) ``R_a(S) ⊆ T ⊆ F_b(S)``, decided on S's exact offsets by a and b (as for one radius); (b)
+        valid geometry, loops pairwise apart; (c) every arc turning left has radius a and every arc turning
         right radius b, every join is G1 except corners kept sharp by a radius 0 (left turns for a = 0,
         right turns for b = 0), and the loops are the ones the fast path's (or the convex path's) exact
         tests, run again on S, certify.
@@ -343,6 +343,8 @@ def _tighten_pair(S, a: float, b: float, init, tol: float):
     geometry, valid = _assemble_valid(loops, tol)
     if not (valid or geometry.is_valid) or geometry.is_empty:
         raise _not_supported(a, b, "the rounded rings do not bound a valid region")
+    if not all(shapely.is_valid(Polygon(loop.sample(tol))) for loop in loops):
+        raise _not_supported(a, b, "a rounded ring touches itself")
     if len(loops) > 1 and _loops_touch(loops, tol, frame.scale):
         raise _not_supported(a, b, "two rounded rings touch (parts of the shape that meet)")
     result = TwoRadiiTightening(loops=loops, geometry=geometry, r=max(a, b), init=init.value, tolerance=tol,
@@ -368,20 +370,25 @@ def _verify(T) -> list[str]:
     G = T.geometry
     x0, y0, x1, y1 = T.shape.bounds
     rounding = rounding_length(max(x1 - x0, y1 - y0), max(abs(x0), abs(y0), abs(x1), abs(y1)))
-    # (a) against buffered references, a quarter of the tolerance fine.
-    R, F, _ = two_radii_morphology(T.shape, T.radii, tolerance=tol / 4)
+    # (a) ``R_a ⊆ T ⊆ F_b``, decided as for one radius on S's exact offsets (`_exact_containment`): the
+    # loops are the certified ones (checked below), which stay out of the open core and anticore, so each
+    # component of the open core lies wholly inside T or outside it, and it suffices that every corner
+    # and piece of S↓a lies in T and every one of (S^c)↓b outside. Buffered references would not do:
+    # GEOS simplifies a buffer's input (false alarms of 1e-15 of area on parts 1e-5 wide far out).
+    # A radius 0 is S itself: S ⊆ T (a = 0) or T ⊆ S (b = 0), against T or S widened by the slack.
     slack = 2 * tol + 4.0 * rounding
     tiny = 1e-9 * max(x1 - x0, y1 - y0) ** 2
-    out_r = R.difference(G.buffer(slack)).area if not R.is_empty else 0.0
-    if out_r > tiny:
-        problems.append(f"(a) the tightening misses {out_r:.3g} of the core R_a's area")
-    out_f = G.difference(F.buffer(slack)).area if not G.is_empty else 0.0
-    if out_f > tiny:
-        problems.append(f"(a) the tightening extends {out_f:.3g} of area outside the fillet F_b")
+    info = T._cache.get("_pair")
+    frame = T._cache.get("_frame")
+    if T._cache.get("_path") == "empty" or info is None:
+        R, _, _ = two_radii_morphology(T.shape, T.radii, tolerance=tol / 4)
+        if not R.is_empty and R.difference(G.buffer(slack)).area > tiny:
+            problems.append("(a) the tightening misses part of the core R_a")
+    else:
+        problems += _exact_a(T, info, frame, slack, tiny)
     # (b)
     if not G.is_valid:
         problems.append(f"(b) geometry is invalid: {shapely.is_valid_reason(G)}")
-    frame = T._cache.get("_frame")
     if len(T.loops) > 1 and _loops_touch(T.loops, tol, frame.scale if frame else 1.0):
         problems.append("(b) two loops touch")
     # (c), (d): arcs of the right radius on the right side; corners only where a radius is 0.
@@ -397,6 +404,42 @@ def _verify(T) -> list[str]:
             problems.append(f"(c) loop {i} has {bad} corner(s) where its radius is not 0")
     if T._cache.get("_path") != "empty":
         problems += _check_pair_fast(T)
+    return problems
+
+
+def _exact_a(T, info, frame, slack: float, tiny: float) -> list[str]:
+    """(a) for a result of the fast or the convex path, on S's exact offsets (see `_verify`)."""
+    from .offsets import exact_offsets
+
+    S_local, _, (a_l, b_l), precision, _, _ = info
+    G = T.geometry
+    G_local = frame.to_local(G) if not G.is_empty else G
+    shapely.prepare(G_local)
+    problems = []
+    for radius, side, inside in ((a_l, 1, True), (b_l, -1, False)):
+        if radius == 0:
+            if inside and T.shape.difference(G.buffer(slack)).area > tiny:
+                problems.append("(a) the tightening misses part of S, its core for r_convex = 0")
+            if not inside and G.difference(T.shape.buffer(slack)).area > tiny:
+                problems.append("(a) the tightening extends outside S, its fillet for r_concave = 0")
+            continue
+        X = exact_offsets(S_local, radius, side, precision=precision)
+        pts = [X.corners]
+        if len(X.seg):
+            pts.append(0.5 * (X.seg[:, 0] + X.seg[:, 1]))
+        if len(X.arc_center):
+            th = X.arc_start + 0.5 * X.arc_sweep
+            pts.append(X.arc_center + X.r * np.column_stack([np.cos(th), np.sin(th)]))
+        xy = np.concatenate(pts)
+        if len(xy) == 0:
+            continue
+        hit = shapely.intersects_xy(G_local, xy[:, 0], xy[:, 1]) if not G_local.is_empty else np.zeros(len(xy), bool)
+        if inside and not hit.all():
+            problems.append(f"(a) the tightening misses {int((~hit).sum())} piece(s) of the centres of the core "
+                            "R_a (exact offsets)")
+        if not inside and hit.any():
+            problems.append(f"(a) the tightening covers {int(hit.sum())} piece(s) of the centres of the "
+                            "anticore of F_b (exact offsets)")
     return problems
 
 
