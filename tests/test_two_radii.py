@@ -293,3 +293,36 @@ def test_the_final_check_flags_a_gross_failure(monkeypatch):
     with pytest.warns(vt.ConvergenceWarning, match="final check"):
         T = vt.tighten(L_SHAPE, (0.5, 1.5))
     assert not T.converged
+
+
+# -- tangents between disks of different radii ----------------------------------------------------------------
+@settings(max_examples=40)
+@given(st.lists(st.tuples(st.floats(-20, 20), st.floats(-20, 20), st.sampled_from([1, -1]),
+                          st.one_of(st.just(0.0), st.floats(0.1, 3.0))), min_size=2, max_size=6))
+def test_tangents_between_disks_of_different_radii(disks):
+    """Each tangent touches both circles at right angles, keeps each disk on its own side, and the one
+    radius case is the scalar formula, bit for bit."""
+    c = np.array([(x, y) for x, y, _, _ in disks])
+    s = np.array([side for _, _, side, _ in disks], float)
+    rho = np.array([radius for _, _, _, radius in disks])
+    phi, length, ok = vt.tangent_directions(c, s, rho)
+    nrm = np.column_stack([-np.sin(phi), np.cos(phi)])
+    u = np.column_stack([np.cos(phi), np.sin(phi)])
+    P = c - (s * rho)[:, None] * nrm
+    Q = np.roll(c, -1, axis=0) - (np.roll(s * rho, -1))[:, None] * nrm
+    size = 1.0 + np.abs(c).max() + rho.max()
+    for i in np.flatnonzero(ok):
+        j = (i + 1) % len(c)
+        assert np.allclose(Q[i] - P[i], length[i] * u[i], atol=1e-9 * size)
+        for x, k in ((P[i], i), (Q[i], j)):
+            assert math.hypot(*(x - c[k])) == pytest.approx(rho[k], abs=1e-9 * size)
+            # The disk on the loop's left (+1) or right (−1) of the tangent's direction.
+            cross = u[i, 0] * (c[k, 1] - x[1]) - u[i, 1] * (c[k, 0] - x[0])
+            assert rho[k] == 0 or np.sign(cross) == s[k]
+    for i in np.flatnonzero(~ok):
+        j = (i + 1) % len(c)
+        k = s[j] * rho[j] - s[i] * rho[i]
+        assert math.hypot(*(c[j] - c[i])) ** 2 <= k * k + 1e-9 * size ** 2
+    if len(set(rho.tolist())) == 1:
+        one = vt.tangent_directions(c, s, float(rho[0]))
+        assert all(np.array_equal(x, y) for x, y in zip(one, (phi, length, ok)))
