@@ -1411,7 +1411,8 @@ def _assemble_valid(loops: list[Loop], tol: float):
     return shapely.orient_polygons(geom, exterior_cw=False), valid
 
 
-def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None = None) -> Tightening:
+def tighten(S, r: float | tuple[float, float], *, init: str | Init = "core",
+            tolerance: float | None = None) -> Tightening:
     """The exact r-tightening of a polygonal shape.
 
     The result T satisfies ``R_r(S) ⊆ T ⊆ F_r(S)`` and its boundary is made of disjoint simple closed
