@@ -41,6 +41,7 @@ from .errors import (
 )
 from .exact_morphology import ExactBoundary, exact_boundary
 from .loop_input import FlattenWarning
+from .two_radii import TwoRadiiNotSupportedError, TwoRadiiTightening
 from . import limits
 from .vectorized import core_all, fillet_all, mason_all, mortar_all, tighten_all
 
@@ -54,6 +55,7 @@ __all__ = [
     "FlattenWarning",
     "Init",
     "Tightening",
+    "TwoRadiiTightening",
     "anticore",
     "arc_centers",
     "core",
@@ -97,6 +99,7 @@ __all__ = [
     "Side",
     "TighteningError",
     "TighteningFailedError",
+    "TwoRadiiNotSupportedError",
     "common_tangents",
     "disk_tangent",
     "tangent_directions",

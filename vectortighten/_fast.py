@@ -81,18 +81,23 @@ def _clean_ring(c: np.ndarray):
 class _Rings:
     """Per-vertex data of all rings of S, concatenated (vertex i, edge i from vertex i to next[i])."""
 
-    def __init__(self, S, r: float, precision: float | None = None):
+    def __init__(self, S, r: float, precision: float | None = None, radii: tuple[float, float] | None = None):
         rings = [_clean_ring(shapely.get_coordinates(ring))
                  for ring in shapely.get_rings(shapely.get_parts(S))]
         self.ok = all(len(v) >= 3 for v, _, _ in rings)
         if not self.ok:
             return
         self.r = r
+        # Two radii (``radii = (a, b)``, r their larger): disks at convex vertices (side +1) have radius a,
+        # at reflex ones (−1) radius b, and the shrink is by a, the grow by b (`radius`). One radius: all r.
+        self.pair = radii is not None
+        self.ra, self.rb = radii if self.pair else (r, r)
         # The distance tests call a clearance of at least r − tie "r" (a tie, as a part exactly 2r wide):
         # the closed rule of `offsets.exact_offsets`, whose slack is `precision_of(S)`, and never more than
         # _EXACT·r. A neck narrower than 2r by more than that is cut here as it is there; one narrower by
         # less than _EXACT·r but more than the precision used to pass as a tie (and come back joined).
-        self.tie = min(_EXACT * r, max(precision_of(S), precision or 0.0))
+        r_tie = min(x for x in (self.ra, self.rb) if x > 0) if self.pair else r
+        self.tie = min(_EXACT * r_tie, max(precision_of(S), precision or 0.0))
         sizes = np.array([len(v) for v, _, _ in rings])
         start = np.cumsum(sizes) - sizes
         self.slices = [slice(a, a + n) for a, n in zip(start.tolist(), sizes.tolist(), strict=True)]
@@ -114,12 +119,14 @@ class _Rings:
         dot = u_in[:, 0] * ux + u_in[:, 1] * uy
         self.theta = np.arctan2(cross, dot)                             # turn at vertex i, left positive
         self.side = np.where(self.theta > 0, 1.0, -1.0)
+        # Each vertex's own disk radius (a scalar for one radius: the very same arithmetic as before).
+        self.rv = np.where(self.side > 0, self.ra, self.rb) if self.pair else r
         n_in = self._pred(self.n)
         self.c = n_in
         self.c += self.n
-        self.c *= (self.side * r / (1.0 + dot))[:, None]
+        self.c *= (self.side * self.rv / (1.0 + dot))[:, None]
         self.c += self.v
-        self.t = r * np.tan(np.abs(self.theta) / 2)
+        self.t = self.rv * np.tan(np.abs(self.theta) / 2)
         self.length = self.ell - self.t - self._succ(self.t)            # straight piece on edge i
         self.phi = np.arctan2(uy, ux)
         self._offsets, self._arcs = {}, {}
@@ -129,8 +136,18 @@ class _Rings:
     def sagitta(self) -> np.ndarray:
         """How far the arc of radius r at each vertex strays from its chord: r·(1 − cos(θ/2))."""
         if self._sagitta is None:
-            self._sagitta = self.r * (1 - np.cos(0.5 * self.theta))
+            self._sagitta = self.rv * (1 - np.cos(0.5 * self.theta))
         return self._sagitta
+
+    def radius(self, side: int) -> float:
+        """The offset distance of a side: the shrink's (+1, the convex radius) or the grow's (−1)."""
+        return self.ra if side > 0 else self.rb
+
+    def arc_sagitta(self, side: int, k: np.ndarray) -> np.ndarray:
+        """Sagitta of the arcs of this side's offset curve around vertices k (of the other side)."""
+        if not self.pair:
+            return self.sagitta[k]
+        return self.radius(side) * (1 - np.cos(0.5 * self.theta[k]))
 
     def _succ(self, x: np.ndarray) -> np.ndarray:
         """``x[next]``, copied in one sweep but at the rings' ends."""
@@ -164,7 +181,7 @@ class _Rings:
     def _offset_ends(self, side: int):
         """`offsets` as the arrays of their starts and of their ends."""
         if side not in self._offsets:
-            shift = side * self.r * self.n
+            shift = side * self.radius(side) * self.n
             mine = (self.side == side)[:, None]
             a = self.v + shift
             np.copyto(a, self.c, where=mine)
@@ -195,20 +212,28 @@ class _Rings:
         return self._arcs[side]
 
 
-def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = None):
+def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = None,
+                    radii: tuple[float, float] | None = None):
     """Disk loops ``[(centers, sides, phi, lengths, sweeps), ...]`` for every ring of S, or None.
 
     ``S`` is oriented (S on the left of every ring), in the engine's local frame; ``precision`` is the
-    rounding of the world coordinates in it (`offsets.exact_offsets`).
+    rounding of the world coordinates in it (`offsets.exact_offsets`). With ``radii = (a, b)`` (two
+    radii, r their larger, either may be 0) convex corners get disks of radius a and reflex ones of
+    radius b, each side is checked against its own offset, and each loop carries a sixth array, the
+    radius of every disk (0: the vertex itself, a sharp corner).
     """
-    D = _Rings(S, r, precision)
+    D = _Rings(S, r, precision, radii)
     if not D.ok or (np.abs(D.theta) > math.pi - 1e-6).any():
-        return None                                     # a spike: no disk fits its corner
+        # A spike: no disk fits its corner (kept sharp by a radius 0, its two sides would touch).
+        return None
     if (D.length < -1e-12 * np.maximum(D.ell, r)).any():
         return None                                     # two disks do not fit on one edge
     length = np.maximum(D.length, 0.0)
     shapely.prepare(S)
-    certified = {side: _offset_certified(D, S, side) for side in (1, -1)}
+    # A side of radius 0 (two radii) keeps its corners sharp: its shrink (grow) is S itself, which the
+    # straight pieces lie on and the other side's arcs stay out of; nothing to check there.
+    certified = {side: True if D.pair and D.radius(side) == 0 else _offset_certified(D, S, side)
+                 for side in (1, -1)}
     # A certified side's offset curves lie wholly in S (+1) or outside it (−1), and its centres with them.
     open_ = np.flatnonzero([not certified[s] for s in D.side.astype(int)]) if not all(certified.values()) \
         else np.zeros(0, np.int64)
@@ -216,9 +241,11 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
         inside = shapely.contains_xy(S, D.c[open_, 0], D.c[open_, 1])
         if ((D.side[open_] > 0) != inside).any():
             return None                                 # a disk on the wrong side of S
-    limit = r - D.tie
     rounded = None
     for side in (1, -1):
+        if D.pair and D.radius(side) == 0:
+            continue
+        limit = D.radius(side) - D.tie
         # The straight pieces must lie on the core's boundary for init="core" (side +1) and, with the
         # anticore's too, for "mason".
         edges = init != "input" if side > 0 else init == "mason"
@@ -237,6 +264,8 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
             return None
         if edges and not _reaches_edges(D, S, side):
             return None
+    if D.pair:
+        return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl], D.rv[sl]) for sl in D.slices]
     return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl]) for sl in D.slices]
 
 
@@ -283,10 +312,10 @@ def _offset_certified(D: _Rings, S, side: int) -> bool:
         return False
     # One point of each ring's curve, the start of its first straight piece, decides the sign of f there.
     f = D._first
-    p0 = np.where((D.side[f] == side)[:, None], D.c[f], D.v[f] + side * D.r * D.n[f])
+    p0 = np.where((D.side[f] == side)[:, None], D.c[f], D.v[f] + side * D.radius(side) * D.n[f])
     if (shapely.contains_xy(S, p0[:, 0], p0[:, 1]) != (side > 0)).any():
         return False
-    limit = D.r - D.tie
+    limit = D.radius(side) - D.tie
     if len(p0) * len(D.v) > 4_000_000:
         return not _closer_than(D, p0, p0, limit)
     # Few rings: every edge against every point, without building the k-d tree. An edge whose start is
@@ -349,7 +378,7 @@ def _offset_chain(D: _Rings, side: int):
     m = int(seg_at[-1]) + 1
     arc_at = seg_at[k] - 1
     kp = D.prev[k]
-    shift = side * D.r * D.n
+    shift = side * D.radius(side) * D.n
     A, B, fat = np.empty((m, 2), order="F"), np.empty((m, 2), order="F"), np.zeros(m)
     for col in (0, 1):
         v, sh = D.v[:, col], shift[:, col]
@@ -357,7 +386,7 @@ def _offset_chain(D: _Rings, side: int):
         np.copyto(a, D.c[:, col], where=mine)
         A[seg_at, col] = a
         A[arc_at, col] = v[k] + sh[kp]              # where the offset of edge prev[k] ends
-    fat[arc_at] = np.maximum(D.sagitta[k], 1e-300)
+    fat[arc_at] = np.maximum(D.arc_sagitta(side, k), 1e-300)
     starts = seg_at[D._first] - (~mine[D._first])
     nxt, first = _links(starts, m)
     B[:-1] = A[1:]
@@ -867,7 +896,7 @@ def _arcs_clear(D: _Rings, side: int) -> bool:
     them is outside the core. Reflex vertices likewise, outside S, against the grow. The arcs are tested
     at points every π/16 at most (slightly outside their own disk, which the pieces at its centre touch).
     """
-    r = D.r
+    r = D.radius(side)
     mine = np.flatnonzero(D.side == side)
     if len(mine) == 0:
         return True
@@ -961,11 +990,12 @@ def _reaches_edges(D: _Rings, S, side: int) -> bool:
     outwards and outside S. Decided exactly from the edges of S. Needed for ``init="core"`` (the core's
     rings must be the rings of S) and, with both sides, for ``"mason"``.
     """
-    r = D.r
+    r = D.radius(side)
     keep = D.length > 0
     if not keep.any():
         return True
-    a = D.c[keep] - (D.side[keep] * r)[:, None] * D.n[keep] + side * r * D.n[keep]
+    own = D.rv[keep] if D.pair else r                   # the radius of each piece's first disk
+    a = D.c[keep] - (D.side[keep] * own)[:, None] * D.n[keep] + side * r * D.n[keep]
     b = a + np.maximum(D.length[keep], 0)[:, None] * D.u[keep]
     mid = 0.5 * (a + b)
     if (shapely.contains_xy(S, mid[:, 0], mid[:, 1]) != (side > 0)).any():

@@ -89,6 +89,7 @@ file).
 
 examples:
   vectortighten tighten shape.svg -r 2 -o tight.svg
+  vectortighten tighten part.dxf -r 0,3 -o part-cnc.dxf     # inside corners >= 3, outside sharp
   vectortighten tighten shape.svg -r 2 -o tight.svg --layers input,core,mortar
   vectortighten tighten part.geojson -r 0.5 --init input -o part.dxf
   vectortighten tighten shape.svg -r 2 --flatten 0.001 --tolerance 0.0001 -o tight.wkt
@@ -142,6 +143,54 @@ def _positive_float(text: str) -> float:
     if not math.isfinite(value) or value <= 0:
         raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text}")
     return value
+
+
+def _radius(text: str):
+    """``-r``: one radius ``R`` (> 0), or two, ``A,B`` (convex, concave; each ≥ 0, not both 0)."""
+    if "," not in text:
+        return _positive_float(text)
+    from .two_radii import parse_radii
+
+    values = []
+    for part in text.split(","):
+        try:
+            values.append(float(part))
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{part.strip()!r} is not a number (expected R or A,B)") from None
+    try:
+        a, b = parse_radii(values)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    return a if a == b else (a, b)
+
+
+def _nonnegative_radius(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not math.isfinite(value) or value < 0:
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text}")
+    return value
+
+
+def _radius_of(args):
+    """The radius of a ``tighten`` run: ``-r`` (one or two), or ``--r-convex`` and/or ``--r-concave``.
+
+    A missing or contradictory radius is a usage error of the parser (one line, exit code 2).
+    """
+    pair = (args.r_convex, args.r_concave)
+    error = args.tighten_parser.error
+    if args.radius is not None:
+        if pair != (None, None):
+            error("give either -r/--radius or --r-convex/--r-concave, not both")
+        return args.radius
+    if pair == (None, None):
+        error("the following arguments are required: -r/--radius (or --r-convex/--r-concave)")
+    a, b = (0.0 if x is None else x for x in pair)
+    if a == 0 and b == 0:
+        error("--r-convex and --r-concave are both 0: at least one must be positive")
+    return a if a == b else (a, b)
 
 
 def _threshold(text: str) -> float:
@@ -265,9 +314,18 @@ def _add_tighten(sub) -> None:
     tight.add_argument("inputs", type=Path, nargs="+", metavar="IN",
                        help="input file(s) or a folder of them (.svg, .dxf, .wkt, .geojson, .json, .gpkg, "
                             ".shp, .fgb, .parquet; images: .png, .tif, .bmp, .gif, .jpg)")
-    tight.add_argument("-r", "--radius", type=_positive_float, required=True, metavar="R",
+    tight.add_argument("-r", "--radius", type=_radius, default=None, metavar="R",
                        help="the tightening radius, in the input's units (pixels for an image; the CRS's "
-                            "units for geodata, after --to-crs if given)")
+                            "units for geodata, after --to-crs if given); or two, A,B: convex corners "
+                            "rounded by A, concave (inside) corners by B, either 0 to keep them sharp "
+                            "(-r 0,3: the CNC inside-corner rule; vector shapes only)")
+    tight.set_defaults(tighten_parser=tight)
+    tight.add_argument("--r-convex", type=_nonnegative_radius, default=None, metavar="A",
+                       help="two radii: the convex radius (the core is the opening by A; default 0, "
+                            "convex corners stay sharp, when only --r-concave is given)")
+    tight.add_argument("--r-concave", type=_nonnegative_radius, default=None, metavar="B",
+                       help="two radii: the concave radius (the fillet is the closing by B; default 0, "
+                            "concave corners stay sharp, when only --r-convex is given)")
     tight.add_argument("-o", "--output", type=Path, required=True, metavar="OUT",
                        help="output file; a folder for several inputs (created if its parent exists)")
     tight.add_argument("--init", choices=("core", "input", "mason"), default="core",
@@ -364,7 +422,7 @@ class _Task:
 
     source: Path
     target: Path
-    r: float
+    r: float | tuple[float, float]
     init: str
     tolerance: float | None
     flatten: float | None
@@ -476,7 +534,7 @@ def _tighten_file(task: _Task) -> str:
         result = tighten(shape, task.r, init=task.init, tolerance=task.tolerance)
         bar.advance()
     if result.is_empty:
-        warnings.warn(f"the tightening is empty: every part is thinner than 2r = {2 * task.r:g}", UserWarning)
+        warnings.warn(f"the tightening is empty: every part is thinner than 2r = {2 * result.r:g}", UserWarning)
     # What the reader found (units, position, page, styles; a CRS) travels to the writer in the meta.
     io.write_result(result, task.target, layers=task.layers, meta=source.meta, format=geo.output_format,
                     **dict(task.write_options))
@@ -654,7 +712,7 @@ def _plan(args) -> tuple[list[_Task], bool]:
                        output_format=args.format if not batch else None,
                        processes=args.jobs if single else None, dask=args.dask,
                        skip_failed=args.skip_failed)
-    opts = dict(r=args.radius, init=args.init, tolerance=args.tolerance, flatten=args.flatten,
+    opts = dict(r=_radius_of(args), init=args.init, tolerance=args.tolerance, flatten=args.flatten,
                 layers=args.layers, trace=args.trace or "exact", geo=geo, quiet=args.quiet,
                 exact_arcs=args.exact_arcs, progress=not batch and not args.quiet and (args.progress or sys.stderr.isatty()))
     if batch:
@@ -693,6 +751,11 @@ def _plan(args) -> tuple[list[_Task], bool]:
         seen[rt] = f
         tasks.append(_Task(f, t, route=_route(f, args.input_format), **opts))
     _check_scoped(args, tasks)
+    if isinstance(opts["r"], tuple):
+        bad = next((t for t in tasks if t.route != "shape"), None)
+        if bad is not None:
+            raise UsageError(f"two radii apply to vector shapes (SVG, DXF, WKT, a GeoJSON geometry) only, "
+                             f"not {str(bad.source)!r}")
     if args.exact_arcs and any(t.route != "shape" for t in tasks):
         bad = next(t for t in tasks if t.route != "shape")
         raise UsageError(f"--exact-arcs applies to SVG, DXF and WKT input only, not {str(bad.source)!r}")

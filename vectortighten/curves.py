@@ -820,8 +820,9 @@ def tangent_directions(centers, sides, r: float, precision: float = 0.0):
         Disk centres.
     sides : (n,) float or int
         `Side` of each disk: +1 the loop keeps it on its left, -1 on its right.
-    r : float
-        Radius of every disk.
+    r : float or (n,) float
+        Radius of every disk, or of each (two radii: core disks a, anticore disks b; 0 is a point, where
+        the loop turns with a corner).
     precision : float, optional
         How far (same units) each centre may be from where exact arithmetic puts it, e.g. the rounding of
         the coordinates it was solved from. Two disks on opposite sides that overlap by no more than twice
@@ -832,7 +833,8 @@ def tangent_directions(centers, sides, r: float, precision: float = 0.0):
     phi : (n,) float
         Direction (radians) of the tangent from disk ``i`` to disk ``i + 1`` (cyclic).
     length : (n,) float
-        Its length ``sqrt(d² − k²)`` with ``k = (s[i+1] − s[i])·r``.
+        Its length ``sqrt(d² − k²)`` with ``k = (s[i+1] − s[i])·r``, or with per-disk radii
+        ``k = s[i+1]·r[i+1] − s[i]·r[i]`` (the signed radii's difference).
     ok : (n,) bool
         False where the tangent does not exist (``d < |k|`` beyond rounding and ``precision``, or
         coincident centres).
@@ -840,7 +842,8 @@ def tangent_directions(centers, sides, r: float, precision: float = 0.0):
     Notes
     -----
     The tangent leaves disk ``i`` at ``c[i] − s[i]·r·n(phi)`` and reaches disk ``i+1`` at
-    ``c[i+1] − s[i+1]·r·n(phi)``, where ``n(phi) = (−sin phi, cos phi)`` is the left normal.
+    ``c[i+1] − s[i+1]·r·n(phi)``, where ``n(phi) = (−sin phi, cos phi)`` is the left normal (``r[i]``
+    and ``r[i+1]`` with per-disk radii).
 
     Examples
     --------
@@ -853,15 +856,28 @@ def tangent_directions(centers, sides, r: float, precision: float = 0.0):
     >>> phi, length, ok = tangent_directions(c, [1, -1], 1.0, precision=1e-10)
     >>> bool(ok[0]), float(length[0])
     (True, 0.0)
+
+    Per-disk radii: from a point (radius 0) to an anticore disk of radius 3 whose centre is 5 away, the
+    tangent is 4 long.
+
+    >>> phi, length, ok = tangent_directions([(0.0, 0.0), (5.0, 0.0)], [1, -1], [0.0, 3.0])
+    >>> float(length[0]), bool(ok.all())
+    (4.0, True)
     """
     c = np.asarray(centers, dtype=float)
     s = np.asarray(sides, dtype=float)
     D = np.roll(c, -1, axis=0) - c
     d = np.hypot(D[:, 0], D[:, 1])
-    k = (np.roll(s, -1) - s) * r
+    if np.ndim(r) == 0:
+        k = (np.roll(s, -1) - s) * r
+        r2 = r * r
+    else:
+        rho = s * np.asarray(r, dtype=float)               # signed radii
+        k = np.roll(rho, -1) - rho
+        r2 = np.maximum(np.abs(rho), np.abs(np.roll(rho, -1))) ** 2
     gap = d * d - k * k
     # d is known to 2·precision, so d² − k² to about 4·d·precision (plus the rounding of the squares).
-    slack = np.maximum(1e-12 * (d * d + r * r), 4.0 * d * precision)
+    slack = np.maximum(1e-12 * (d * d + r2), 4.0 * d * precision)
     ok = (gap >= -slack) & (d > 0)
     length = np.sqrt(np.maximum(gap, 0.0))
     phi = np.arctan2(D[:, 1], D[:, 0]) - np.arctan2(k, length)

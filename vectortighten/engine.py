@@ -1085,7 +1085,7 @@ class Tightening:
         Valid shapely geometry sampled from the loops within ``tolerance`` (every sampled point lies on
         the exact curve). Empty when everything vanishes.
     r : float
-        The radius.
+        The radius (for two radii, the larger: see `two_radii.TwoRadiiTightening`; ``radii`` gives both).
     init : str
         The initial condition: ``"core"``, ``"input"`` or ``"mason"``.
     tolerance : float
@@ -1133,6 +1133,21 @@ class Tightening:
     def is_empty(self) -> bool:
         """True when the tightening is empty."""
         return not self.loops
+
+    @property
+    def radii(self) -> tuple[float, float]:
+        """``(r_convex, r_concave)``: ``(r, r)`` for one radius (two: `two_radii.TwoRadiiTightening`)."""
+        return (self.r, self.r)
+
+    @property
+    def r_convex(self) -> float:
+        """The radius of the arcs that turn left (about disks of the core)."""
+        return self.radii[0]
+
+    @property
+    def r_concave(self) -> float:
+        """The radius of the arcs that turn right (about disks of the anticore)."""
+        return self.radii[1]
 
     # -- morphology of the input (computed on first use) ---------------------------------------------------
     def _morph(self, name):
@@ -1399,7 +1414,8 @@ def _assemble_valid(loops: list[Loop], tol: float):
     return shapely.orient_polygons(geom, exterior_cw=False), valid
 
 
-def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None = None) -> Tightening:
+def tighten(S, r: float | tuple[float, float], *, init: str | Init = "core",
+            tolerance: float | None = None) -> Tightening:
     """The exact r-tightening of a polygonal shape.
 
     The result T satisfies ``R_r(S) ⊆ T ⊆ F_r(S)`` and its boundary is made of disjoint simple closed
@@ -1414,8 +1430,15 @@ def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None =
         counter-clockwise, holes clockwise, or a `Tightening` fed back in), the shape comes back itself,
         with its own pieces, when it is exactly its own tightening, else its arcs are flattened within
         1e-5·r first (see `vectortighten.loop_input`).
-    r : float
-        The radius, > 0, in the units of S.
+    r : float or (float, float)
+        The radius, > 0, in the units of S. Or two radii ``(r_convex, r_concave)`` = (a, b), each ≥ 0 and
+        not both 0: the core is ``R_a(S)``, the fillet ``F_b(S)``, arcs turning left have radius a and
+        arcs turning right radius b, and a radius 0 keeps those corners sharp (``(0, tool_radius)``: the
+        CNC inside-corner rule). ``(r, r)`` is r itself. Two different radii are computed where every
+        corner of S is isolated (its disk fits and meets nothing else) or S is a convex polygon, and
+        return a `two_radii.TwoRadiiTightening` (``T.r`` is then the larger radius, ``T.radii`` the
+        pair); elsewhere `two_radii.TwoRadiiNotSupportedError` is raised (the general engine has one
+        radius only).
     init : {"core", "input", "mason"}
         The flow's initial condition: ``"core"`` starts from the core (the paper's implementation: thin
         parts and constrictions go), ``"input"`` from S itself (self-dual, §4.2: tight constrictions
@@ -1466,6 +1489,10 @@ def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None =
     >>> T.min_radius_of_curvature
     1.0
     """
+    if not isinstance(r, (int, float)) and _is_pair(r):
+        from .two_radii import tighten_two_radii   # r = (r_convex, r_concave)
+
+        return tighten_two_radii(S, r, init=init, tolerance=tolerance)
     if not isinstance(S, (Polygon, MultiPolygon)) and _loop_input(S):
         from .loop_input import tighten_loops   # S given by its exact boundary (segments and arcs)
 
@@ -1480,6 +1507,12 @@ def tighten(S, r: float, *, init: str | Init = "core", tolerance: float | None =
         raise ValueError(f"init must be 'core', 'input' or 'mason', got {init!r}") from None
     check_output_size(S, r, tol)
     return guarded_tighten(_tighten, S, r, init, tol)
+
+
+def _is_pair(r) -> bool:
+    from .two_radii import is_pair
+
+    return is_pair(r)
 
 
 def _loop_input(S) -> bool:

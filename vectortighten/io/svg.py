@@ -853,6 +853,12 @@ def _unit_of(root) -> str | None:
 # ---------------------------------------------------------------------------------------------------------
 # Writing
 # ---------------------------------------------------------------------------------------------------------
+def _radius_text(result) -> str:
+    """``r=R``, or ``r_convex=A r_concave=B`` for a tightening with two radii."""
+    a, b = getattr(result, "radii", (result.r, result.r))
+    return f"r={_num(result.r)}" if a == b else f"r_convex={_num(a)} r_concave={_num(b)}"
+
+
 def _num(value: float) -> str:
     """Shortest decimal that reads back as the same float (``2.0`` → ``"2"``)."""
     text = repr(float(value))
@@ -1031,7 +1037,7 @@ def svg_document(result, *, layers=(), unit: str | None = None, meta: dict | Non
         '<?xml version="1.0" encoding="UTF-8"?>',
         '<svg xmlns="http://www.w3.org/2000/svg" '
         'xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" version="1.1" ' + root_attrs + ">",
-        f"<!-- vectortighten: r={_num(result.r)} init={result.init} perimeter={_num(result.perimeter)} "
+        f"<!-- vectortighten: {_radius_text(result)} init={result.init} perimeter={_num(result.perimeter)} "
         f"area={_num(result.area)} components={result.n_components} holes={result.n_holes}; "
         "coordinates are the shape's with y negated -->",
     ]
