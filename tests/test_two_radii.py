@@ -326,3 +326,24 @@ def test_tangents_between_disks_of_different_radii(disks):
     if len(set(rho.tolist())) == 1:
         one = vt.tangent_directions(c, s, float(rho[0]))
         assert all(np.array_equal(x, y) for x, y in zip(one, (phi, length, ok)))
+
+
+@pytest.mark.parametrize("a, b", [(0.0, 1.0), (1.0, 0.0), (0.5, 1.5)])
+def test_public_morphology_takes_the_pair(a, b):
+    """``vt.core(S, (a, b))`` is the core at a, ``vt.fillet`` the fillet at b (S itself for a radius 0),
+    the mortar their difference; an L-shape: five convex corners lose a²(1 − π/4) each, the reflex one
+    gains b²(1 − π/4)."""
+    S = L_SHAPE
+    R, F, M = vt.core(S, (a, b)), vt.fillet(S, (a, b)), vt.mortar(S, (a, b))
+    loss, gain = 5 * a * a * (1 - math.pi / 4), b * b * (1 - math.pi / 4)
+    assert abs(R.area - (S.area - loss)) <= 1e-4 * max(a, 1e-3) and S.covers(R)
+    assert abs(F.area - (S.area + gain)) <= 1e-4 * max(b, 1e-3) and F.covers(S)
+    assert abs(M.area - (loss + gain)) <= 2e-4 * max(a, b)
+    if a == 0:
+        assert R.equals(S)
+        assert sum(lp.area for lp in vt.core(S, (a, b), exact=True)) == S.area
+    else:
+        exact = sum(lp.area for lp in vt.core(S, (a, b), exact=True))
+        assert abs(exact - (S.area - loss)) <= 1e-12 * S.area
+    with pytest.raises(vt.InvalidRadiusError):
+        vt.mortar(S, (0.0, 0.0))

@@ -44,6 +44,24 @@ __all__ = [
 Polygonal = Polygon | MultiPolygon
 
 
+def _side_radius(r, which: int):
+    """``r`` itself, or for a pair ``(r_convex, r_concave)`` the one the core (``which=0``) or the fillet
+    (``which=1``) is taken at (`two_radii`); None when that radius is 0 (the set is S itself)."""
+    from .two_radii import is_pair, parse_radii
+
+    if not is_pair(r):
+        return r
+    v = parse_radii(r)[which]
+    return v if v > 0 else None
+
+
+def _ring_loops(S: Polygonal) -> list:
+    """S's rings as `Loop`s of segments (S oriented: outer boundaries counter-clockwise, holes clockwise)."""
+    from .curves import Loop
+
+    return [Loop.from_polygon_ring(shapely.get_coordinates(ring)) for ring in shapely.get_rings(shapely.get_parts(S))]
+
+
 def _prepare(S, r, tolerance) -> tuple[Polygonal, float, int]:
     r = check_radius(r)
     S = check_shape(S)
@@ -523,8 +541,8 @@ def core(S, r: float, *, tolerance: float | None = None, exact: bool = False) ->
     ----------
     S : shapely Polygon or MultiPolygon
         The shape.
-    r : float
-        Radius, > 0.
+    r : float or (float, float)
+        Radius, > 0; or a pair ``(r_convex, r_concave)`` (`vectortighten.two_radii`): the core is taken at ``r_convex`` (S itself if it is 0).
     tolerance : float, optional
         Chord tolerance of the convex arcs of radius r (default 1e-5·r); the chords lie inside the disks.
     exact : bool, optional
@@ -546,6 +564,10 @@ def core(S, r: float, *, tolerance: float | None = None, exact: bool = False) ->
     >>> abs(R.area - (16 - (4 - pi))) < 1e-4          # a² − (4 − π)r²
     True
     """
+    r = _side_radius(r, 0)
+    if r is None:                                     # (a pair whose convex radius is 0)
+        S = _orient(check_shape(S))
+        return _ring_loops(S) if exact else S
     if exact:
         from .exact_morphology import exact_boundary
 
@@ -565,8 +587,8 @@ def fillet(S, r: float, *, tolerance: float | None = None, exact: bool = False) 
     ----------
     S : shapely Polygon or MultiPolygon
         The shape.
-    r : float
-        Radius, > 0.
+    r : float or (float, float)
+        Radius, > 0; or a pair ``(r_convex, r_concave)`` (`vectortighten.two_radii`): the fillet is taken at ``r_concave`` (S itself if it is 0).
     tolerance : float, optional
         Chord tolerance of the concave arcs of radius r (default 1e-5·r).
     exact : bool, optional
@@ -587,6 +609,10 @@ def fillet(S, r: float, *, tolerance: float | None = None, exact: bool = False) 
     >>> abs(fillet(L, 1.0).area - (L.area + 1 - pi / 4)) < 1e-4   # (1 − π/4)r² at the reflex corner
     True
     """
+    r = _side_radius(r, 1)
+    if r is None:                                     # (a pair whose concave radius is 0)
+        S = _orient(check_shape(S))
+        return _ring_loops(S) if exact else S
     if exact:
         from .exact_morphology import exact_boundary
 
@@ -605,8 +631,8 @@ def mortar(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     ----------
     S : shapely Polygon or MultiPolygon
         The shape.
-    r : float
-        Radius, > 0.
+    r : float or (float, float)
+        Radius, > 0; or a pair ``(r_convex, r_concave)``: then ``F_{r_concave}(S) − R_{r_convex}(S)``.
     tolerance : float, optional
         Chord tolerance (default 1e-5·r).
 
@@ -622,6 +648,11 @@ def mortar(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     >>> abs(mortar(box(0, 0, 4, 4), 1.0).area - (4 - pi)) < 1e-4   # the four convex corners
     True
     """
+    from .two_radii import is_pair
+
+    if is_pair(r):
+        R, F = core(S, r, tolerance=tolerance), fillet(S, r, tolerance=tolerance)
+        return _orient(_polygonal(shapely.difference(F, R)))
     S, r, q = _prepare(S, r, tolerance)
     return _orient(_polygonal(shapely.difference(_fillet(S, r, q), _core(S, r, q))))
 
