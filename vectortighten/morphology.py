@@ -46,13 +46,16 @@ Polygonal = Polygon | MultiPolygon
 
 def _side_radius(r, which: int):
     """``r`` itself, or for a pair ``(r_convex, r_concave)`` the one the core (``which=0``) or the fillet
-    (``which=1``) is taken at (`two_radii`); None when that radius is 0 (the set is S itself)."""
+    (``which=1``) is taken at (`two_radii`); `_ZERO` when that radius is 0 (the set is S itself)."""
     from .two_radii import is_pair, parse_radii
 
     if not is_pair(r):
         return r
     v = parse_radii(r)[which]
-    return v if v > 0 else None
+    return v if v > 0 else _ZERO
+
+
+_ZERO = object()
 
 
 def _ring_loops(S: Polygonal) -> list:
@@ -565,7 +568,7 @@ def core(S, r: float, *, tolerance: float | None = None, exact: bool = False) ->
     True
     """
     r = _side_radius(r, 0)
-    if r is None:                                     # (a pair whose convex radius is 0)
+    if r is _ZERO:                                    # (a pair whose convex radius is 0)
         S = _orient(check_shape(S))
         return _ring_loops(S) if exact else S
     if exact:
@@ -610,7 +613,7 @@ def fillet(S, r: float, *, tolerance: float | None = None, exact: bool = False) 
     True
     """
     r = _side_radius(r, 1)
-    if r is None:                                     # (a pair whose concave radius is 0)
+    if r is _ZERO:                                    # (a pair whose concave radius is 0)
         S = _orient(check_shape(S))
         return _ring_loops(S) if exact else S
     if exact:
