@@ -188,6 +188,24 @@ def test_every_point_of_the_shrink_at_distance_d_on_a_pixel_staircase(seed):
         assert distance_error(S, m.grow(S, d, exact=True), d) < 1e-12
 
 
+@pytest.mark.parametrize("make, radii", [(lambda: pixel_blob(40, seed=0), (1.0, 2.5)),
+                                         (lambda: traced_contour(160, seed=3), (4.0,))],
+                         ids=["pixel blob", "traced contour"])
+def test_public_shrink_and_grow_polygons_lie_at_distance_d(make, radii):
+    """`vt.shrink` and `vt.grow` (the polygons) are the exact boundaries sampled: every vertex is at
+    distance d from ∂S to 1e-12 of S's size (GEOS's buffers simplify their input: the traced contour's
+    grow had vertices 1.5e-5 off at d = 4, a 30k pixel staircase's 1.2 % of d at 0.6), the core inside
+    S, the fillet around it."""
+    S = check_shape(make())
+    for d in radii:
+        for fn in (m.shrink, m.grow):
+            xy = shapely.get_coordinates(fn(S, d))
+            assert len(xy)
+            assert np.abs(shapely.distance(S.boundary, shapely.points(xy)) - d).max() <= 1e-12 * size_of(S)
+        R, F = m.core(S, d), m.fillet(S, d)
+        assert S.covers(R) and F.covers(S)
+
+
 @pytest.mark.parametrize("make, d", [(lambda: admin_outline(4000, seed=2), 6000.0),
                                      (lambda: admin_outline(4000, seed=2), 600.0),
                                      (lambda: traced_contour(160, seed=3), 4.0)],
