@@ -171,7 +171,8 @@ def _pinned(geom: Polygonal, S: Polygonal) -> Polygonal:
     rest = ~found
     a, b = _edges(_orient(S))
     tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
-    j, dist = tree.query_nearest(shapely.points(coords[rest]), all_matches=False, return_distance=True)
+    j, dist = tree.query_nearest(shapely.points(coords[rest]), max_distance=eps, all_matches=False,
+                                 return_distance=True)
     k = np.flatnonzero(rest)[j[0]]
     on = (dist > 0) & (dist <= eps)
     k, e = k[on], j[1][on]
