@@ -270,9 +270,13 @@ def missing_lines(X, P, r: float, far_r: float, max_angle: float):
     if P.is_empty:
         keep = np.full(len(pts), X.side > 0)
     elif X.side > 0:
+        shapely.prepare(P)                  # one predicate a point: indexed, not a scan of P per point
         keep = ~shapely.dwithin(P, pts, far)
     else:
-        keep = shapely.contains(P, pts) & ~shapely.dwithin(P.boundary, pts, far)
+        shapely.prepare(P)
+        B = P.boundary
+        shapely.prepare(B)
+        keep = shapely.contains(P, pts) & ~shapely.dwithin(B, pts, far)
     if not keep.any():
         return None
     geoms = [shapely.linestrings(pl) for pl, k in zip(lines, keep[:len(lines)]) if k]
