@@ -250,12 +250,13 @@ class _Elements:
         return shapely.linestrings(xy), float(self.r * (1.0 - np.cos(0.5 * step)).max(initial=0.0))
 
     def clearance(self, xy):
-        """Distance of each point to S's boundary, and the nearest edge.
+        """Distance of each point to S's boundary, and the nearest edge, as far as the rounds need them.
 
         The edge whose middle is nearest (if that middle is nearer than r − precision) gives an upper
         bound; where it is nearer than r − precision the point is in that edge's capsule, and that is all
         the rounds need to know (the clearance returned there is that bound). Elsewhere the R-tree finds
-        the nearest edge exactly.
+        the nearest edge exactly where some edge lies within r − precision; a point farther than that
+        from every edge gets +inf and edge −1 (the rounds only compare the clearance with r − precision).
         """
         if self._kd is None:
             self._kd = cKDTree(0.5 * (self.a + self.b))
@@ -274,9 +275,16 @@ class _Elements:
         d[found[hit]], e[found[hit]] = dj[hit], j[found[hit]]
         rest = np.flatnonzero(~deep)
         if len(rest):
-            (_, er), dr = self.tree.query_nearest(shapely.points(xy[rest]), return_distance=True,
-                                                  all_matches=False)
-            d[rest], e[rest] = dr, er
+            # Most of the rest are clear (an offset piece lies at r from its own edge): the R-tree's
+            # distance query finds the few with an edge within r − precision, and only those need the
+            # nearest edge; the others are farther than r − precision from every edge (+inf, edge −1).
+            pts = shapely.points(xy[rest])
+            pi, _ = self.tree.query(pts, predicate="dwithin", distance=self.r - self.eps)
+            near = np.unique(pi)
+            d[rest], e[rest] = np.inf, -1
+            if len(near):
+                (_, er), dr = self.tree.query_nearest(pts[near], return_distance=True, all_matches=False)
+                d[rest[near]], e[rest[near]] = dr, er
         return d, e
 
     def _edge_distance(self, xy, j):
