@@ -91,12 +91,40 @@ class OffsetPieces:
 
     def polylines(self, max_angle: float = math.pi / 64) -> list[np.ndarray]:
         """Each piece as a polyline (arcs through points on them, at most ``max_angle`` apart)."""
-        out = [s for s in self.seg]
-        for c, a0, sw in zip(self.arc_center, self.arc_start, self.arc_sweep):
-            m = max(1, int(math.ceil(abs(sw) / max_angle)))
-            th = a0 + sw * np.linspace(0.0, 1.0, m + 1)
-            out.append(np.column_stack([c[0] + self.r * np.cos(th), c[1] + self.r * np.sin(th)]))
-        return out
+        xy, start = self.polyline_points(max_angle)
+        return np.split(xy, start[1:-1]) if len(start) > 1 else []
+
+    def polyline_points(self, max_angle: float = math.pi / 64) -> tuple[np.ndarray, np.ndarray]:
+        """The pieces' polylines (`polylines`) in one array: their points, and where each starts.
+
+        Returns ``(xy, start)``: polyline ``i`` is ``xy[start[i]:start[i + 1]]``; the straight pieces first
+        (two points each), then the arcs, each through ``max(1, ⌈|sweep| / max_angle⌉) + 1`` points evenly
+        spaced in angle (the ends exact), in S's units.
+
+        Examples
+        --------
+        >>> from shapely.geometry import box
+        >>> xy, start = exact_offsets(box(0, 0, 4, 3), 1.0, side=-1).polyline_points(math.pi / 4)
+        >>> start.tolist()
+        [0, 2, 4, 6, 8, 11, 14, 17, 20]
+        """
+        k = len(self.seg)
+        sw = np.asarray(self.arc_sweep, dtype=float)
+        m = np.maximum(1, np.ceil(np.abs(sw) / max_angle)).astype(np.int64)
+        sizes = np.concatenate([np.full(k, 2, dtype=np.int64), m + 1])
+        start = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+        arc_xy = np.zeros((0, 2))
+        if len(m):
+            # As `np.linspace(0, 1, m + 1)` does it: i · (1/m), the last exactly 1.
+            row = np.repeat(np.arange(len(m)), m + 1)
+            i = np.arange(len(row)) - np.repeat(start[k:-1] - start[k], m + 1)
+            t = i.astype(float) * (1.0 / m)[row]
+            t[start[k + 1:] - start[k] - 1] = 1.0
+            th = self.arc_start[row] + sw[row] * t
+            c = self.arc_center[row]
+            arc_xy = np.column_stack([c[:, 0] + self.r * np.cos(th), c[:, 1] + self.r * np.sin(th)])
+        xy = np.concatenate([np.asarray(self.seg, dtype=float).reshape(-1, 2), arc_xy])
+        return xy, start
 
 
 def _edges(S):
