@@ -267,15 +267,23 @@ class _Elements:
         return out
 
     def geoms(self, e, lo, hi):
-        """The sub-pieces as shapely lines (an arc by a polyline), for reach queries; and their sag."""
+        """The sub-pieces as shapely lines (an arc by a polyline), for reach queries; and their sag.
+
+        A straight sub-piece is the segment between its ends; an arc goes through ``_ARC_SAMPLES`` points.
+        """
         m = _ARC_SAMPLES
-        t = lo[:, None] + (hi - lo)[:, None] * np.linspace(0.0, 1.0, m)[None, :]
         is_seg = e < self.n_seg
-        t = np.where(is_seg[:, None], np.linspace(0.0, 1.0, m)[None, :] * (hi - lo)[:, None] + lo[:, None], t)
-        xy = self.points(np.repeat(e, m), t.ravel()).reshape(len(e), m, 2)
+        # Points a piece: 2 on a straight one (its ends, at lo and (hi − lo) + lo), m on an arc.
+        count = np.where(is_seg, 2, m)
+        row = np.repeat(np.arange(len(e)), count)
+        j = np.arange(len(row)) - np.repeat(np.cumsum(count) - count, count)
+        frac = np.where(is_seg[row], j.astype(float), np.linspace(0.0, 1.0, m)[np.minimum(j, m - 1)])
+        span = (hi - lo)[row]
+        t = np.where(is_seg[row], frac * span + lo[row], lo[row] + span * frac)
+        lines = shapely.linestrings(self.points(e[row], t), indices=row)
         step = np.where(is_seg, 0.0, np.abs(self.arc_sw[np.clip(e - self.n_seg, 0, None)] if self.n_arc
                                              else 0.0) * (hi - lo) / (m - 1))
-        return shapely.linestrings(xy), float(self.r * (1.0 - np.cos(0.5 * step)).max(initial=0.0))
+        return lines, float(self.r * (1.0 - np.cos(0.5 * step)).max(initial=0.0))
 
     def clearance(self, xy):
         """Distance of each point to S's boundary, and the nearest edge, as far as the rounds need them.
