@@ -7,7 +7,8 @@ angle and sweep), area, perimeter, the geometry's WKB, ``verify()``'s findings a
 * ``random``: 120 random stars with ripples near r, 60 unions of boxes (some with a round hole), 60 unions
   of disks (numpy seed 12345, radii drawn per shape);
 * ``fp``: 150 building footprints (`bench_geo.footprints`, seed 3), r = 1;
-* ``corpus``: `benchmarks/corpus.py`'s real shapes up to 30 000 vertices at r = 0.5 and 1.0 stroke width.
+* ``corpus``: `benchmarks/corpus.py`'s real shapes up to 30 000 vertices at r = 0.5 and 1.0 stroke width;
+* ``families``: `benchmarks/bench_families.py`'s families at 1000 vertices, at their r and tolerance 1e-5·r.
 
 Comparing two snapshots matches each loop as a cyclic sequence (the piece a loop starts at may differ
 when the triangulation does: the loops are the same curves), pieces equal to 1e-11 of the shape's size,
@@ -193,6 +194,11 @@ def snapshot(src: str, out: str, sets: list[str]) -> None:
                     continue
                 for f in (0.5, 1.0):
                     yield f"{c.family}/{c.name}@{f}", c.shape, f * c.width
+        if "families" in sets:
+            import bench_families
+
+            for fam, (make, r) in bench_families.FAMILIES.items():
+                yield f"family/{fam}@1000", make(1000), (r, 1e-5 * r)
 
     class TO(Exception):
         pass
@@ -204,10 +210,11 @@ def snapshot(src: str, out: str, sets: list[str]) -> None:
     res = {}
     limit = int(os.environ.get("SNAP_LIMIT", "120"))
     for name, S, r in shapes():
+        r, kw = (r[0], {"tolerance": r[1]}) if isinstance(r, tuple) else (r, {})
         signal.alarm(limit)
         t0 = time.process_time()
         try:
-            T = vt.tighten(S, r)
+            T = vt.tighten(S, r, **kw)
             dt = time.process_time() - t0
             signal.alarm(0)
             pcs = []

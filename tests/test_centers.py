@@ -161,3 +161,31 @@ def test_mason_of_a_fillet_with_a_vertex_far_from_every_feature():
         T = vt.tighten(S, 2.5, init=init)
         assert T.verify() == []
         assert T.perimeter == pytest.approx(28.669214, abs=1e-6)
+
+
+def _spikes_by_the_rule(c):
+    """The spike rule applied literally: a whole-array pass per removal (the reference for the heap)."""
+    while len(c) >= 3:
+        nxt = np.roll(c, -1, axis=0)
+        dup = (c == nxt).all(axis=1)
+        if dup.any():
+            c = c[~dup]
+            continue
+        spike = (np.roll(c, 1, axis=0) == nxt).all(axis=1)
+        if not spike.any():
+            break
+        i = int(np.flatnonzero(spike)[0])
+        c = np.delete(c, [i, (i + 1) % len(c)], axis=0)
+    return c
+
+
+def test_without_spikes_matches_the_rule():
+    from vectortighten.centers import _without_spikes
+
+    rng = np.random.default_rng(7)
+    for _ in range(3000):          # few distinct points: nested spikes, repeats and wrap-around joins
+        c = rng.integers(0, int(rng.integers(1, 5)), size=(int(rng.integers(0, 13)), 2)).astype(float)
+        assert np.array_equal(_without_spikes(c.copy()), _spikes_by_the_rule(c.copy()))
+    # a ring with a spike of depth two nested in it keeps its square
+    sq = np.array([[0, 0], [4, 0], [5, 0], [6, 0], [5, 0], [4, 0], [4, 4], [0, 4]], dtype=float)
+    assert _without_spikes(sq).tolist() == [[0, 0], [4, 0], [4, 4], [0, 4]]

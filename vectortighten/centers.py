@@ -11,6 +11,7 @@ its corner vertices moved onto them by one rule (`snap_onto` within `snap_window
 
 from __future__ import annotations
 
+import heapq
 import math
 from dataclasses import dataclass
 
@@ -269,9 +270,13 @@ def missing_lines(X, P, r: float, far_r: float, max_angle: float):
     if P.is_empty:
         keep = np.full(len(pts), X.side > 0)
     elif X.side > 0:
+        shapely.prepare(P)                  # one predicate a point: indexed, not a scan of P per point
         keep = ~shapely.dwithin(P, pts, far)
     else:
-        keep = shapely.contains(P, pts) & ~shapely.dwithin(P.boundary, pts, far)
+        shapely.prepare(P)
+        B = P.boundary
+        shapely.prepare(B)
+        keep = shapely.contains(P, pts) & ~shapely.dwithin(B, pts, far)
     if not keep.any():
         return None
     geoms = [shapely.linestrings(pl) for pl, k in zip(lines, keep[:len(lines)]) if k]
@@ -336,20 +341,64 @@ def _move_vertices(P, src: np.ndarray, dst: np.ndarray):
 
 
 def _without_spikes(c: np.ndarray) -> np.ndarray:
-    """A ring's vertices (open) without repeated points and without vertices between two copies of one."""
-    while len(c) >= 3:
-        nxt = np.roll(c, -1, axis=0)
-        dup = (c == nxt).all(axis=1)
-        if dup.any():
-            c = c[~dup]
+    """A ring's vertices (open) without repeated points and without vertices between two copies of one.
+
+    The rule, applied until nothing changes or fewer than three vertices are left: drop every vertex
+    equal to its successor; else take the first spike (a vertex whose neighbours are equal) and drop it
+    and its successor (the second copy). Each removal changes only the neighbours of the join it makes,
+    so the vertices are linked in a cycle and the spikes kept in a heap by position: O(n log n), the
+    same vertices as applying the rule to the whole array each time.
+    """
+    if len(c) < 3:
+        return c
+    nxt0 = np.roll(c, -1, axis=0)
+    dup = (c == nxt0).all(axis=1)
+    if dup.any():
+        c = c[~dup]
+        if len(c) < 3:
+            return c
+    prv0, nxt0 = np.roll(c, 1, axis=0), np.roll(c, -1, axis=0)
+    spikes = np.flatnonzero((prv0 == nxt0).all(axis=1))
+    if len(spikes) == 0:
+        return c
+    xs, ys = c[:, 0].tolist(), c[:, 1].tolist()
+    n = len(c)
+    nxt = list(range(1, n)) + [0]
+    prv = [n - 1] + list(range(n - 1))
+    alive = [True] * n
+    left = n
+
+    def same(i, j):
+        return xs[i] == xs[j] and ys[i] == ys[j]
+
+    def drop(i):
+        nonlocal left
+        p, q = prv[i], nxt[i]
+        nxt[p], prv[q] = q, p
+        alive[i] = False
+        left -= 1
+
+    heap = spikes.tolist()              # ascending: already a heap
+    while heap and left >= 3:
+        i = heapq.heappop(heap)
+        if not alive[i] or not same(prv[i], nxt[i]):
             continue
-        prv = np.roll(c, 1, axis=0)
-        spike = (prv == nxt).all(axis=1)
-        if not spike.any():
+        j = nxt[i]
+        drop(i)
+        drop(j)
+        if left < 3:
             break
-        i = int(np.flatnonzero(spike)[0])
-        c = np.delete(c, [i, (i + 1) % len(c)], axis=0)
-    return c
+        p, q = prv[j], nxt[j]           # the join the removal made
+        if same(p, q):                  # a repeated point: the first copy goes
+            pp = prv[p]
+            drop(p)
+            if left < 3:
+                break
+            p = pp
+        for k in (p, q):
+            if same(prv[k], nxt[k]):
+                heapq.heappush(heap, k)
+    return c[np.asarray(alive)]
 
 
 

@@ -127,10 +127,14 @@ class _Context:
         self._s_edges = None
         edges, kinds, owners, self.opieces = [], [], [], []
         for kind, X in ((1, self.xE), (-1, self.xG)):
-            for pl in X.polylines(obstacle_angle):         # the straight pieces first, then the arcs
-                edges.append(np.stack([pl[:-1], pl[1:]], axis=1))
-                kinds.append(np.full(len(pl) - 1, kind, dtype=np.int8))
-                owners.append(np.full(len(pl) - 1, len(owners), dtype=np.int64))
+            xy, start = X.polyline_points(obstacle_angle)  # the straight pieces first, then the arcs
+            if len(start) > 1:
+                # The chords of every polyline: from each point that is not its polyline's last.
+                owner = np.repeat(np.arange(len(start) - 1), np.diff(start) - 1)
+                first = np.arange(len(owner)) + owner      # point index of each chord's start
+                edges.append(np.stack([xy[first], xy[first + 1]], axis=1))
+                kinds.append(np.full(len(owner), kind, dtype=np.int8))
+                owners.append(owner + len(self.opieces))
             self.opieces += [(kind, ("seg", (p, q))) for p, q in X.seg]
             self.opieces += [(kind, ("arc", (c, r, a0, sw))) for c, a0, sw in
                              zip(X.arc_center, X.arc_start, X.arc_sweep)]

@@ -91,12 +91,40 @@ class OffsetPieces:
 
     def polylines(self, max_angle: float = math.pi / 64) -> list[np.ndarray]:
         """Each piece as a polyline (arcs through points on them, at most ``max_angle`` apart)."""
-        out = [s for s in self.seg]
-        for c, a0, sw in zip(self.arc_center, self.arc_start, self.arc_sweep):
-            m = max(1, int(math.ceil(abs(sw) / max_angle)))
-            th = a0 + sw * np.linspace(0.0, 1.0, m + 1)
-            out.append(np.column_stack([c[0] + self.r * np.cos(th), c[1] + self.r * np.sin(th)]))
-        return out
+        xy, start = self.polyline_points(max_angle)
+        return np.split(xy, start[1:-1]) if len(start) > 1 else []
+
+    def polyline_points(self, max_angle: float = math.pi / 64) -> tuple[np.ndarray, np.ndarray]:
+        """The pieces' polylines (`polylines`) in one array: their points, and where each starts.
+
+        Returns ``(xy, start)``: polyline ``i`` is ``xy[start[i]:start[i + 1]]``; the straight pieces first
+        (two points each), then the arcs, each through ``max(1, ⌈|sweep| / max_angle⌉) + 1`` points evenly
+        spaced in angle (the ends exact), in S's units.
+
+        Examples
+        --------
+        >>> from shapely.geometry import box
+        >>> xy, start = exact_offsets(box(0, 0, 4, 3), 1.0, side=-1).polyline_points(math.pi / 4)
+        >>> start.tolist()
+        [0, 2, 4, 6, 8, 11, 14, 17, 20]
+        """
+        k = len(self.seg)
+        sw = np.asarray(self.arc_sweep, dtype=float)
+        m = np.maximum(1, np.ceil(np.abs(sw) / max_angle)).astype(np.int64)
+        sizes = np.concatenate([np.full(k, 2, dtype=np.int64), m + 1])
+        start = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+        arc_xy = np.zeros((0, 2))
+        if len(m):
+            # As `np.linspace(0, 1, m + 1)` does it: i · (1/m), the last exactly 1.
+            row = np.repeat(np.arange(len(m)), m + 1)
+            i = np.arange(len(row)) - np.repeat(start[k:-1] - start[k], m + 1)
+            t = i.astype(float) * (1.0 / m)[row]
+            t[start[k + 1:] - start[k] - 1] = 1.0
+            th = self.arc_start[row] + sw[row] * t
+            c = self.arc_center[row]
+            arc_xy = np.column_stack([c[:, 0] + self.r * np.cos(th), c[:, 1] + self.r * np.sin(th)])
+        xy = np.concatenate([np.asarray(self.seg, dtype=float).reshape(-1, 2), arc_xy])
+        return xy, start
 
 
 def _edges(S):
@@ -239,23 +267,32 @@ class _Elements:
         return out
 
     def geoms(self, e, lo, hi):
-        """The sub-pieces as shapely lines (an arc by a polyline), for reach queries; and their sag."""
+        """The sub-pieces as shapely lines (an arc by a polyline), for reach queries; and their sag.
+
+        A straight sub-piece is the segment between its ends; an arc goes through ``_ARC_SAMPLES`` points.
+        """
         m = _ARC_SAMPLES
-        t = lo[:, None] + (hi - lo)[:, None] * np.linspace(0.0, 1.0, m)[None, :]
         is_seg = e < self.n_seg
-        t = np.where(is_seg[:, None], np.linspace(0.0, 1.0, m)[None, :] * (hi - lo)[:, None] + lo[:, None], t)
-        xy = self.points(np.repeat(e, m), t.ravel()).reshape(len(e), m, 2)
+        # Points a piece: 2 on a straight one (its ends, at lo and (hi − lo) + lo), m on an arc.
+        count = np.where(is_seg, 2, m)
+        row = np.repeat(np.arange(len(e)), count)
+        j = np.arange(len(row)) - np.repeat(np.cumsum(count) - count, count)
+        frac = np.where(is_seg[row], j.astype(float), np.linspace(0.0, 1.0, m)[np.minimum(j, m - 1)])
+        span = (hi - lo)[row]
+        t = np.where(is_seg[row], frac * span + lo[row], lo[row] + span * frac)
+        lines = shapely.linestrings(self.points(e[row], t), indices=row)
         step = np.where(is_seg, 0.0, np.abs(self.arc_sw[np.clip(e - self.n_seg, 0, None)] if self.n_arc
                                              else 0.0) * (hi - lo) / (m - 1))
-        return shapely.linestrings(xy), float(self.r * (1.0 - np.cos(0.5 * step)).max(initial=0.0))
+        return lines, float(self.r * (1.0 - np.cos(0.5 * step)).max(initial=0.0))
 
     def clearance(self, xy):
-        """Distance of each point to S's boundary, and the nearest edge.
+        """Distance of each point to S's boundary, and the nearest edge, as far as the rounds need them.
 
         The edge whose middle is nearest (if that middle is nearer than r − precision) gives an upper
         bound; where it is nearer than r − precision the point is in that edge's capsule, and that is all
         the rounds need to know (the clearance returned there is that bound). Elsewhere the R-tree finds
-        the nearest edge exactly.
+        the nearest edge exactly where some edge lies within r − precision; a point farther than that
+        from every edge gets +inf and edge −1 (the rounds only compare the clearance with r − precision).
         """
         if self._kd is None:
             self._kd = cKDTree(0.5 * (self.a + self.b))
@@ -274,9 +311,16 @@ class _Elements:
         d[found[hit]], e[found[hit]] = dj[hit], j[found[hit]]
         rest = np.flatnonzero(~deep)
         if len(rest):
-            (_, er), dr = self.tree.query_nearest(shapely.points(xy[rest]), return_distance=True,
-                                                  all_matches=False)
-            d[rest], e[rest] = dr, er
+            # Most of the rest are clear (an offset piece lies at r from its own edge): the R-tree's
+            # distance query finds the few with an edge within r − precision, and only those need the
+            # nearest edge; the others are farther than r − precision from every edge (+inf, edge −1).
+            pts = shapely.points(xy[rest])
+            pi, _ = self.tree.query(pts, predicate="dwithin", distance=self.r - self.eps)
+            near = np.unique(pi)
+            d[rest], e[rest] = np.inf, -1
+            if len(near):
+                (_, er), dr = self.tree.query_nearest(pts[near], return_distance=True, all_matches=False)
+                d[rest[near]], e[rest[near]] = dr, er
         return d, e
 
     def _edge_distance(self, xy, j):
