@@ -234,6 +234,23 @@ def test_redundant_vertices_change_nothing(S, init):
     assert T1.perimeter == pytest.approx(T0.perimeter, rel=1e-9, abs=1e-9)
 
 
+@pytest.mark.parametrize("init", ["core", "input"])
+def test_collinear_midpoints_change_nothing_on_a_concave_pentagon(init):
+    """Regression (found by the property above): with a midpoint in every edge, GEOS's shrink of this
+    pentagon snapped onto the exact corners made a guide core 1.5 larger than the core, and the general
+    engine returned a loop of perimeter 15.6 (converged=False) for 33.48. The guide now samples S's exact
+    shrink and grow."""
+    S = Polygon([(8.607685477726008, 0.0), (4.366127310455837, 4.067468746085792),
+                 (4.104496684146196, 4.528068965850645), (-7.73233218116508, -3.78196884222677),
+                 (8.55169774752709, -0.9801606594815621)])
+    c = np.asarray(S.exterior.coords)[:-1]
+    mids = np.empty((2 * len(c), 2))
+    mids[0::2], mids[1::2] = c, 0.5 * (c + np.roll(c, -1, axis=0))
+    T0, T1 = vt.tighten(S, 0.7, init=init), vt.tighten(Polygon(mids), 0.7, init=init)
+    assert T1.converged and T1.verify() == []
+    assert T1.perimeter == pytest.approx(T0.perimeter, rel=1e-9) and T1.n_components == T0.n_components == 1
+
+
 @SETTINGS
 @given(st.one_of(stars(), disk_unions(max_n=3), holed()))
 def test_input_mode_is_self_dual(S):

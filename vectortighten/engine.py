@@ -165,6 +165,12 @@ class _Context:
 
     def _guide_offsets(self):
         if self._EG is None:
+            # S's exact shrink and grow sampled (`morphology._sampled`), where they can be built.
+            E = _m._sampled(self.S, self.r, self.q_exact, "shrink", self.xE)
+            G = _m._sampled(self.S, self.r, self.q_exact, "grow", self.xG)
+            if E is not None and G is not None:
+                self._EG = (_m._orient(E), _m._orient(G))
+                return self._EG
             E, G = (_m._orient(P) for P in _m._offsets(self.S, self.r, self.q_exact))
             # Every convex vertex of GEOS's shrink (reflex vertex of its grow) stands for a corner of the
             # exact offsets, off by up to GEOS's simplification (about r/100, more beside near-tangent
