@@ -1345,13 +1345,7 @@ def _exact_containment(ctx: _Context, frame: _Frame, T, loops: list[Loop], tol: 
     T_loc = frame.to_local(T) if not T.is_empty else T
     shapely.prepare(T_loc)
     for X, inside in ((ctx.xE, True), (ctx.xG, False)):
-        pts = [X.corners]
-        if len(X.seg):
-            pts.append(0.5 * (X.seg[:, 0] + X.seg[:, 1]))
-        if len(X.arc_center):
-            th = X.arc_start + 0.5 * X.arc_sweep
-            pts.append(X.arc_center + X.r * np.column_stack([np.cos(th), np.sin(th)]))
-        xy = np.concatenate(pts)
+        xy = X.test_points()
         if len(xy) == 0:
             continue
         if T_loc.is_empty:

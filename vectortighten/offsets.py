@@ -89,6 +89,17 @@ class OffsetPieces:
     corners: np.ndarray
     precision: float
 
+    def test_points(self) -> np.ndarray:
+        """``(k, 2)``: every corner and the middle of every piece, the points at which a region holding (or
+        missing) the whole closed set is told apart exactly by point-in-polygon tests."""
+        pts = [self.corners]
+        if len(self.seg):
+            pts.append(0.5 * (self.seg[:, 0] + self.seg[:, 1]))
+        if len(self.arc_center):
+            th = self.arc_start + 0.5 * self.arc_sweep
+            pts.append(self.arc_center + self.r * np.column_stack([np.cos(th), np.sin(th)]))
+        return np.concatenate(pts).reshape(-1, 2)
+
     def polylines(self, max_angle: float = math.pi / 64) -> list[np.ndarray]:
         """Each piece as a polyline (arcs through points on them, at most ``max_angle`` apart)."""
         xy, start = self.polyline_points(max_angle)

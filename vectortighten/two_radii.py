@@ -424,13 +424,7 @@ def _exact_a(T, info, frame, slack: float, tiny: float) -> list[str]:
                 problems.append("(a) the tightening extends outside S, its fillet for r_concave = 0")
             continue
         X = exact_offsets(S_local, radius, side, precision=precision)
-        pts = [X.corners]
-        if len(X.seg):
-            pts.append(0.5 * (X.seg[:, 0] + X.seg[:, 1]))
-        if len(X.arc_center):
-            th = X.arc_start + 0.5 * X.arc_sweep
-            pts.append(X.arc_center + X.r * np.column_stack([np.cos(th), np.sin(th)]))
-        xy = np.concatenate(pts)
+        xy = X.test_points()
         if len(xy) == 0:
             continue
         hit = shapely.intersects_xy(G_local, xy[:, 0], xy[:, 1]) if not G_local.is_empty else np.zeros(len(xy), bool)
