@@ -124,7 +124,6 @@ class _Context:
         self._EG = None                       # GEOS's shrink and grow, built on first use (`E`, `G`)
         self.cxy, self.cside = _distinct_centers(self.centers.xy, self.centers.side.astype(np.int64), r)
         self._index_centres()
-        self._s_edges = None
         edges, kinds, owners, self.opieces = [], [], [], []
         for kind, X in ((1, self.xE), (-1, self.xG)):
             xy, start = X.polyline_points(obstacle_angle)  # the straight pieces first, then the arcs
@@ -268,11 +267,12 @@ class _Context:
         seg = shapely.linestrings(self.cxy[[c1, c2]])
         if shapely.distance(seg, point) >= self.r - self.pen_center:
             return False
-        a, b, nxt, index = self._s_index()
         x0, y0, x1, y1 = self.S.bounds
         tiny = ZERO_SCALE * max(x1 - x0, y1 - y0, self.r)
-        si, _ = index.near_segments(self.cxy[[c1]], self.cxy[[c2]], self.r * (1 - 1e-9) - tiny)
-        return len(si) == 0
+        # A nearest-neighbour search in the R-tree of S's edges, bounded by the distance: it stops at the
+        # first edge found, whatever the density of edges around the segment.
+        hit = self._s_tree.query_nearest(seg, max_distance=self.r * (1 - 1e-9) - tiny, all_matches=False)
+        return len(hit) == 0
 
     def clearance(self, xy: np.ndarray) -> np.ndarray:
         """Exact distance from each point to S's boundary."""
@@ -301,13 +301,6 @@ class _Context:
                         np.flatnonzero(self.cside == s)) for s in (1, -1)}
         self.ckd = cKDTree(self.cxy) if len(self.cxy) else None
         self.cindex = PointIndex(self.cxy)
-
-    def _s_index(self):
-        """S's edges (start, end, successor) and their proximity index, built on first use."""
-        if self._s_edges is None:
-            a, b, nxt = boundary_edges(self.S)
-            self._s_edges = (a, b, nxt, EdgeIndex(a, b, self.r))
-        return self._s_edges
 
     def nearest_centers(self, xy: np.ndarray, radius: float):
         """Pairs (point index, centre index) with the centre within ``radius`` of the point."""
@@ -640,41 +633,55 @@ def _obstacle_arrays(ctx: _Context) -> tuple[np.ndarray, np.ndarray]:
 def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
     """The disk to add where a piece enters an obstacle, or None.
 
-    The deepest-entered other centre if there is one. Else the piece came nearer than r only to straight
-    pieces or arcs of the exact shrink or grow (``edges``): the deepest point of such a region towards a
-    straight piece of the loop is one of its corners, so a piece that enters the region enters a corner
-    too, unless it enters only through an arc's own side: an arc may sweep past the straight piece that
-    joins its own centre to the next corner and enter the region between the two; that corner is the
-    disk to add, if the segment to it truly lies in the shrink (grow), i.e. clears S by r. A piece
-    flagged for its midpoint alone takes the nearest centre.
+    The deepest-entered other centre if there is one (the lowest index among equally deep ones). Else the
+    piece came nearer than r only to straight pieces or arcs of the exact shrink or grow (``edges``): the
+    deepest point of such a region towards a straight piece of the loop is one of its corners, so a piece
+    that enters the region enters a corner too, unless it enters only through an arc's own side: an arc
+    may sweep past the straight piece that joins its own centre to the next corner and enter the region
+    between the two; that corner is the disk to add, if the segment to it truly lies in the shrink
+    (grow), i.e. clears S by r. A piece flagged for its midpoint alone takes the nearest centre.
+
+    ``geom`` is a point (on an arc) or a segment (a tangent). The entered centres are found by a ball or
+    capsule query of radius r − pen_center on the centres' k-d tree, whose cost does not grow with the
+    density of centres around the piece (a query 3r wide did: thousands of centres on dense outlines).
     """
-    if ctx.ctree is None:
+    if ctx.ckd is None:
         return None
-    near = np.atleast_1d(ctx.ctree.query(geom, predicate="dwithin", distance=3.0 * ctx.r))
-    near = np.array([c for c in near.tolist() if c not in own], dtype=np.int64)
-    if len(near):
-        d = shapely.distance(geom, shapely.points(ctx.cxy[near]))
-        if d.min() < ctx.r - ctx.pen_center:
-            return int(near[np.argmin(d)])
+    thr = ctx.r - ctx.pen_center
+    if shapely.get_type_id(geom) == 0:
+        xy = shapely.get_coordinates(geom)
+        hit = np.asarray(ctx.ckd.query_ball_point(xy[0], thr), dtype=np.int64)
+    else:
+        pq = shapely.get_coordinates(geom)
+        _, hit = ctx.cindex.near_segments(pq[:1], pq[1:2], thr)
+    entered = np.array(sorted(c for c in hit.tolist() if c not in own), dtype=np.int64)
+    if len(entered):
+        d = shapely.distance(geom, shapely.points(ctx.cxy[entered]))
+        if d.min() < thr:
+            return int(entered[np.argmin(d)])
     if edges:
         if shapely.get_type_id(geom) == 1:
-            return next(iter(_fallbacks(ctx, geom, own, edges, near)), None)
+            return next(iter(_fallbacks(ctx, geom, own, edges)), None)
         (mine,) = own
-        for ci in _fallbacks(ctx, geom, own, edges, near):
+        for ci in _fallbacks(ctx, geom, own, edges):
             if int(ctx.cside[ci]) == int(ctx.cside[mine]) and ctx.joined(mine, ci, geom):
                 return ci
         return None
-    return next(iter(_fallbacks(ctx, geom, own, edges, near)), None)
+    return next(iter(_fallbacks(ctx, geom, own, edges)), None)
 
 
-def _fallbacks(ctx: _Context, geom, own: set[int], edges, near: np.ndarray) -> list[int]:
-    """Centres to try where none is entered: those at the ends of the crossed edges, else all near ones;
+def _fallbacks(ctx: _Context, geom, own: set[int], edges) -> list[int]:
+    """Centres to try where none is entered: those at the ends of the crossed edges, else all within 3r;
     nearest to ``geom`` first."""
     ends = []
     if edges and ctx.ckd is not None:
         d, ci = ctx.ckd.query(ctx.oedges[list(edges)].reshape(-1, 2), distance_upper_bound=4.0 * ctx.pen_center)
         ends = [int(c) for c, dd in zip(ci.tolist(), d.tolist()) if math.isfinite(dd) and int(c) not in own]
-    pool = np.array(sorted(set(ends)), dtype=np.int64) if ends else near
+    if ends:
+        pool = np.array(sorted(set(ends)), dtype=np.int64)
+    else:
+        near = np.atleast_1d(ctx.ctree.query(geom, predicate="dwithin", distance=3.0 * ctx.r))
+        pool = np.array([c for c in near.tolist() if c not in own], dtype=np.int64)
     if len(pool) == 0:
         return []
     d = shapely.distance(geom, shapely.points(ctx.cxy[pool]))
@@ -704,6 +711,55 @@ def _insert_before(ctx: _Context, cid, side, disk: int, ci: int, s: int) -> bool
     before = _chain_length(ctx, [cid[prv], ci, cid[disk], cid[nxt]], [side[prv], s, side[disk], side[nxt]])
     after = _chain_length(ctx, [cid[prv], cid[disk], ci, cid[nxt]], [side[prv], side[disk], s, side[nxt]])
     return before < after
+
+
+def _entered_chain(ctx: _Context, a: int, sa: int, b: int, sb: int, taken: set[int]) -> list[tuple[int, int]]:
+    """The disks that the tangent from disk ``a`` (side ``sa``) to disk ``b`` (side ``sb``) enters, and those
+    that the tangents to them enter in turn, as ``(centre, side)`` in order from ``a`` to ``b``.
+
+    A centre of side s whose disk the tangent enters (it lies on the tangent's side s·left nearer than r,
+    by more than the finish's rounding allowance, and between the tangent's ends) is what `_candidate`
+    would choose there, the deepest first; the finish would insert it, and in later rounds the centres
+    that the two new tangents enter. Here that refinement is done at once for the gap (quickhull on
+    tangents): on dense outlines the funnel misses runs of nearly collinear corners, and one round each
+    would make the finish's rounds as many as the longest run. Centres in ``taken`` (in the loop, or
+    inserted this round) are left out; the chosen ones are added to it. Every other kind of entry (an arc
+    past its own obstacle piece, a piece entering the exact offsets between corners) is left to the
+    finish's next round.
+    """
+    r, pen = ctx.r, ctx.pen_center
+
+    def chain(i: int, si: int, j: int, sj: int, depth_left: int) -> list[tuple[int, int]]:
+        ci, cj = ctx.cxy[i], ctx.cxy[j]
+        D = cj - ci
+        d = math.hypot(D[0], D[1])
+        k = (sj - si) * r
+        if d <= abs(k) or depth_left == 0:
+            return []
+        L = math.sqrt(d * d - k * k)
+        phi = math.atan2(D[1], D[0]) - math.atan2(k, L)
+        u = np.array([math.cos(phi), math.sin(phi)])
+        nrm = np.array([-u[1], u[0]])
+        P = ci - si * r * nrm
+        near = ctx.ckd.query_ball_point(P + 0.5 * L * u, 0.5 * L + r)
+        ids = np.array([c for c in near if c not in taken], dtype=np.int64)
+        if len(ids) == 0:
+            return []
+        w = ctx.cxy[ids] - P
+        t = w @ u
+        s_ids = ctx.cside[ids]
+        depth = r - s_ids * (w @ nrm)
+        ok = (depth > pen) & (depth < 2.0 * r - pen) & (t > 0.0) & (t < L)
+        if not ok.any():
+            return []
+        m = int(np.argmax(np.where(ok, depth, -np.inf)))
+        c, sc = int(ids[m]), int(s_ids[m])
+        taken.add(c)
+        return (chain(i, si, c, sc, depth_left - 1) + [(c, sc)] + chain(c, sc, j, sj, depth_left - 1))
+
+    if ctx.ckd is None:
+        return []
+    return chain(a, sa, b, sb, 64)
 
 
 def _finish(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray) -> _DiskLoop | None:
@@ -774,13 +830,20 @@ def _finish_steps(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndar
                 at.sort(key=lambda p: _chain_length(ctx, [cid[p - 1], ci, cid[p % n]],
                                                     [side[p - 1], s, side[p % n]]))
             ins.setdefault(at[0], (ci, s))
-        cid_l, side_l, ref_l = cid.tolist(), side.tolist(), sw.tolist()
-        for pos in sorted(ins, reverse=True):
+        # Each candidate comes with the disks that the tangents to it from its neighbours enter, as the
+        # next rounds would add them one by one (`_entered_chain`).
+        taken = set(cid.tolist()) | {ci for ci, _ in ins.values()}
+        pos_l, cid_l, side_l = [], [], []
+        for pos in sorted(ins):
             ci, s = ins[pos]
-            cid_l.insert(pos, ci)
-            side_l.insert(pos, s)
-            ref_l.insert(pos, 0.0)
-        cid, side, ref = np.array(cid_l), np.array(side_l), np.array(ref_l)
+            a, sa, b, sb = int(cid[pos - 1]), int(side[pos - 1]), int(cid[pos % n]), int(side[pos % n])
+            chain = _entered_chain(ctx, a, sa, ci, s, taken) + [(ci, s)] + _entered_chain(ctx, ci, s, b, sb, taken)
+            pos_l += [pos] * len(chain)
+            cid_l += [c for c, _ in chain]
+            side_l += [sc for _, sc in chain]
+        cid = np.insert(cid, pos_l, cid_l)
+        side = np.insert(side, pos_l, side_l)
+        ref = np.insert(sw, pos_l, 0.0)
     if last is not None:
         last.converged = False
     return last
