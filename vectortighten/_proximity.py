@@ -21,6 +21,15 @@ __all__: list[str] = []
 #: Edges with half-length above this fraction of r are searched with an R-tree, not a k-d tree.
 _LONG_HALF_R = 1.0
 
+#: Below this many (query, item) pairs every pair is measured: cheaper than building and walking trees
+#: (a small polygon's loop against its offsets), and the same pairs come out.
+_ALL_PAIRS = 1 << 16
+
+
+def _all_pairs(m: int, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Every pair ``(i, j)``, ``i < m``, ``j < n``, sorted."""
+    return np.repeat(np.arange(m, dtype=np.int64), n), np.tile(np.arange(n, dtype=np.int64), m)
+
 
 def _tree(points: np.ndarray) -> cKDTree:
     """A k-d tree split at sliding midpoints: on points strung along curves its boxes hug the curve."""
@@ -211,6 +220,19 @@ class EdgeIndex:
         """Pairs ``(segment, edge)`` with the edge within ``dist`` of the segment ``p[i]q[i]``, sorted."""
         if len(p) == 0 or len(self) == 0:
             return np.zeros(0, np.int64), np.zeros(0, np.int64)
+        if len(p) * len(self) <= _ALL_PAIRS:
+            si, ei = _all_pairs(len(p), len(self))
+        else:
+            si, ei = self._candidates(p, q, dist)
+        far = _beyond_line(p[si], q[si], self.a[ei], self.b[ei], dist)
+        si, ei = si[~far], ei[~far]
+        keep = segment_segment_distance(p[si], q[si], self.a[ei], self.b[ei]) <= dist
+        si, ei = si[keep], ei[keep]
+        order = np.lexsort((ei, si))
+        return si[order], ei[order]
+
+    def _candidates(self, p: np.ndarray, q: np.ndarray, dist: float) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs ``(segment, edge)`` that may lie within ``dist``: every pair that does, and others."""
         mid = 0.5 * (p + q)
         shalf = 0.5 * np.hypot(*(q - p).T)
         S, E = [], []
@@ -226,13 +248,7 @@ class EdgeIndex:
                                       distance=dist)
             S.append(si)
             E.append(self.long[ei])
-        si, ei = np.concatenate(S), np.concatenate(E)
-        far = _beyond_line(p[si], q[si], self.a[ei], self.b[ei], dist)
-        si, ei = si[~far], ei[~far]
-        keep = segment_segment_distance(p[si], q[si], self.a[ei], self.b[ei]) <= dist
-        si, ei = si[keep], ei[keep]
-        order = np.lexsort((ei, si))
-        return si[order], ei[order]
+        return np.concatenate(S), np.concatenate(E)
 
 
 class PointIndex:
@@ -260,15 +276,18 @@ class PointIndex:
         """Pairs ``(segment, indexed point)`` with the point within ``dist`` of the segment ``p[i]q[i]``."""
         if self.kd is None or len(p) == 0:
             return np.zeros(0, np.int64), np.zeros(0, np.int64)
-        mid = 0.5 * (p + q)
-        shalf = 0.5 * np.hypot(*(q - p).T)
-        S, J = [], []
-        for group in _length_classes(shalf, np.arange(len(p))):
-            hits = _tree(mid[group]).sparse_distance_matrix(self.kd, dist + float(shalf[group].max()),
-                                                            output_type="ndarray")
-            S.append(group[hits["i"]])
-            J.append(hits["j"].astype(np.int64))
-        si, j = np.concatenate(S), np.concatenate(J)
+        if len(p) * len(self.xy) <= _ALL_PAIRS:
+            si, j = _all_pairs(len(p), len(self.xy))
+        else:
+            mid = 0.5 * (p + q)
+            shalf = 0.5 * np.hypot(*(q - p).T)
+            S, J = [], []
+            for group in _length_classes(shalf, np.arange(len(p))):
+                hits = _tree(mid[group]).sparse_distance_matrix(self.kd, dist + float(shalf[group].max()),
+                                                                output_type="ndarray")
+                S.append(group[hits["i"]])
+                J.append(hits["j"].astype(np.int64))
+            si, j = np.concatenate(S), np.concatenate(J)
         keep = point_segment_distance(self.xy[j], p[si], q[si]) <= dist
         si, j = si[keep], j[keep]
         order = np.lexsort((j, si))

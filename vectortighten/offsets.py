@@ -32,6 +32,8 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
+from ._proximity import EdgeIndex
+
 __all__ = ["OffsetPieces", "exact_offsets", "precision_of"]
 
 _TWO_PI = 2.0 * math.pi
@@ -261,6 +263,7 @@ class _Elements:
         self.tiny = np.where(self.length > 0, self.eps / np.maximum(self.length, 1e-300), 1.0)
         self.tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1))) if len(a) else None
         self._kd = None
+        self._index = None
         # The edges that cannot cut an element: a segment's own edge, an arc's two edges.
         self.own = np.concatenate([np.stack([np.arange(len(a)), np.arange(len(a))], axis=1),
                                    np.stack([ai, nxt[ai]], axis=1)]) if len(a) else np.zeros((0, 2), np.int64)
@@ -322,16 +325,16 @@ class _Elements:
         d[found[hit]], e[found[hit]] = dj[hit], j[found[hit]]
         rest = np.flatnonzero(~deep)
         if len(rest):
-            # Most of the rest are clear (an offset piece lies at r from its own edge): the R-tree's
-            # distance query finds the few with an edge within r − precision, and only those need the
-            # nearest edge; the others are farther than r − precision from every edge (+inf, edge −1).
-            pts = shapely.points(xy[rest])
-            pi, _ = self.tree.query(pts, predicate="dwithin", distance=self.r - self.eps)
-            near = np.unique(pi)
+            # Most of the rest are clear (an offset piece lies at r from its own edge): a grazing query
+            # (`_proximity.EdgeIndex`: edges by length class, a ball on their middles only as much wider
+            # than r − precision as they are long) finds the few with an edge that near, nearest first;
+            # the others are farther than r − precision from every edge (+inf, edge −1).
+            if self._index is None:
+                self._index = EdgeIndex(self.a, self.b, self.r)
+            pi, ei, di = self._index.near_points(xy[rest], self.r - self.eps)
+            first = np.r_[True, pi[1:] != pi[:-1]] if len(pi) else np.zeros(0, dtype=bool)
             d[rest], e[rest] = np.inf, -1
-            if len(near):
-                (_, er), dr = self.tree.query_nearest(pts[near], return_distance=True, all_matches=False)
-                d[rest[near]], e[rest[near]] = dr, er
+            d[rest[pi[first]]], e[rest[pi[first]]] = di[first], ei[first]
         return d, e
 
     def _edge_distance(self, xy, j):
@@ -343,6 +346,16 @@ class _Elements:
         u = np.where(L2 > 0, u, 0.0)
         f = p + u[:, None] * v
         return np.hypot(xy[:, 0] - f[:, 0], xy[:, 1] - f[:, 1])
+
+    def crowded(self, xy, reach) -> np.ndarray:
+        """Whether more than `_FEW_EDGES` edges have their middle within ``reach`` of each point."""
+        if self._kd is None:
+            self._kd = cKDTree(0.5 * (self.a + self.b))
+        k = _FEW_EDGES + 1
+        if len(self.a) < k:
+            return np.zeros(len(xy), dtype=bool)
+        d, _ = self._kd.query(xy, k=[k], distance_upper_bound=float(np.max(reach)))
+        return d[:, 0] <= reach
 
     def kept(self, xy) -> np.ndarray:
         """The closed rule at points: on the side's side of S and clearance ≥ r − precision."""
@@ -449,6 +462,7 @@ def _uncovered(X, el, lo, hi, pi, pj):
 _MAX_ROUNDS = 400
 _CLEAR_PIECE_R = 1.0 / 16.0     # longest piece (relative to r) cut against every capsule in reach …
 _SPLIT_MAX_R = 4.0              # … unless it is longer than this (relative to r), then it stays whole
+_FEW_EDGES = 16                 # … or no more edges than this lie near it (then it is cut at once)
 
 
 def exact_offsets(S, r: float, side: int = 1, _brute: bool = False, *,
@@ -535,13 +549,16 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False, *,
         # Pieces whose middle is clear: each capsule within reach takes the parts of the piece inside it
         # (between two of its cuts, decided at the middle); what no capsule takes is the kept set.
         c = np.flatnonzero(~inside)
-        # A long clear piece is split and goes round again: an edge's capsule can reach it only within
-        # r of the piece, so the pieces cut against every capsule in reach are kept short (most of the
-        # parts then lie in their nearest capsule and go cheaply), and the reach queries stay small.
-        # (Pieces much longer than r — long edges — are left whole: few capsules reach them per length.)
+        # A long clear piece that many capsules reach is split and goes round again: a capsule reaches
+        # it only within r of the piece, so the parts are cut against few capsules each, and most of
+        # them then lie in their nearest capsule and go cheaply (a dense outline). A piece that few
+        # edges lie near is cut against their capsules now, whatever its length (a sparse polygon:
+        # splitting it would only multiply the pieces). Pieces much longer than r are never split.
         size = X.length[el[c]] * (hi[c] - lo[c])
         parts = np.ceil(size / (_CLEAR_PIECE_R * r)).astype(np.int64)
         long_ = (parts > 1) & (size <= _SPLIT_MAX_R * r)
+        if long_.any():
+            long_[long_] = X.crowded(X.points(el[c][long_], 0.5 * (lo[c] + hi[c])[long_]), r + 0.5 * size[long_])
         if long_.any():
             lc, k = c[long_], parts[long_]
             row = np.repeat(np.arange(len(lc)), k)
@@ -556,6 +573,7 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False, *,
             pi, pj = X.tree.query(g, predicate="dwithin", distance=r + sag + 4.0 * eps)
             own = (X.own[el[c][pi], 0] == pj) | (X.own[el[c][pi], 1] == pj)
             pi, pj = pi[~own], pj[~own]
+        if len(c):
             gaps, touch = _uncovered(X, el[c], lo[c], hi[c], pi, pj)
             lonely.append(touch)
             row, b0, b1 = gaps
