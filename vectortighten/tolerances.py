@@ -80,7 +80,7 @@ DOMAIN_CHORD_R = 0.5 * THICKEN_R
 # The exact offsets' arcs stand in the finish's proximity index as chords with at most this sag (relative
 # to r); the queries are drawn this much wider and every find is decided by the exact distance to the arc,
 # so the sag costs only candidates, never exactness.
-OBSTACLE_SAG_R = 1e-6
+OBSTACLE_SAG_R = 1e-4
 
 # The search's guide (GEOS's core and fillet) is given back the exact offset pieces that lie farther than
 # this (relative to r) from GEOS's buffers: parts exactly 2r wide, and gaps exactly 2r wide. Nearer ones
