@@ -32,7 +32,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from ._proximity import EdgeIndex
+from ._proximity import EdgeIndex, _tree
 
 __all__ = ["OffsetPieces", "exact_offsets", "precision_of"]
 
@@ -262,11 +262,18 @@ class _Elements:
         self.length = np.concatenate([np.hypot(*(seg[:, 1] - seg[:, 0]).T), r * np.abs(arc_sw)])
         self.tiny = np.where(self.length > 0, self.eps / np.maximum(self.length, 1e-300), 1.0)
         self.tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1))) if len(a) else None
-        self._kd = None
+        self._middles = None
         self._index = None
         # The edges that cannot cut an element: a segment's own edge, an arc's two edges.
         self.own = np.concatenate([np.stack([np.arange(len(a)), np.arange(len(a))], axis=1),
                                    np.stack([ai, nxt[ai]], axis=1)]) if len(a) else np.zeros((0, 2), np.int64)
+
+    @property
+    def middles(self) -> cKDTree:
+        """The edges' middles, in a k-d tree whose boxes hug the outline (`_proximity._tree`)."""
+        if self._middles is None:
+            self._middles = _tree(0.5 * (self.a + self.b))
+        return self._middles
 
     def points(self, e, t) -> np.ndarray:
         """Points at parameters ``t`` of elements ``e``."""
@@ -308,15 +315,13 @@ class _Elements:
         the nearest edge exactly where some edge lies within r − precision; a point farther than that
         from every edge gets +inf and edge −1 (the rounds only compare the clearance with r − precision).
         """
-        if self._kd is None:
-            self._kd = cKDTree(0.5 * (self.a + self.b))
         d = np.empty(len(xy))
         e = np.empty(len(xy), dtype=np.int64)
         if len(xy) == 0:
             return d, e
         # An edge is no farther than its middle: a middle nearer than r − precision proves the point deep
         # (and the bounded query stays cheap where every edge is far, as around a wide arc of a staircase).
-        dm, j = self._kd.query(xy, distance_upper_bound=self.r - self.eps)
+        dm, j = self.middles.query(xy, distance_upper_bound=self.r - self.eps)
         found = np.flatnonzero(np.isfinite(dm))
         deep = np.zeros(len(xy), dtype=bool)
         dj = self._edge_distance(xy[found], j[found])
@@ -349,12 +354,10 @@ class _Elements:
 
     def crowded(self, xy, reach) -> np.ndarray:
         """Whether more than `_FEW_EDGES` edges have their middle within ``reach`` of each point."""
-        if self._kd is None:
-            self._kd = cKDTree(0.5 * (self.a + self.b))
         k = _FEW_EDGES + 1
         if len(self.a) < k:
             return np.zeros(len(xy), dtype=bool)
-        d, _ = self._kd.query(xy, k=[k], distance_upper_bound=float(np.max(reach)))
+        d, _ = self.middles.query(xy, k=[k], distance_upper_bound=float(np.max(reach)))
         return d[:, 0] <= reach
 
     def kept(self, xy) -> np.ndarray:
@@ -366,10 +369,8 @@ class _Elements:
         """
         if len(xy) == 0:
             return np.zeros(0, dtype=bool)
-        if self._kd is None:
-            self._kd = cKDTree(0.5 * (self.a + self.b))
         out = np.zeros(len(xy), dtype=bool)
-        dm, j = self._kd.query(xy, distance_upper_bound=self.r - self.eps, eps=1.0)
+        dm, j = self.middles.query(xy, distance_upper_bound=self.r - self.eps, eps=1.0)
         found = np.flatnonzero(np.isfinite(dm))
         deep = np.zeros(len(xy), dtype=bool)
         deep[found] = self._edge_distance(xy[found], j[found]) < self.r - self.eps
