@@ -14,6 +14,10 @@ Families (each at about n vertices; r in the shape's units):
 * ``many parts``: a MultiPolygon of building footprints (`bench_geo.footprint`, about 30 vertices each;
   n/30 of them, 33 000 at a million vertices); r = 1 m.
 
+``MORE_FAMILIES`` (by name with ``--families``, not in the default table) are shapes nothing was tuned on:
+a star with ripples of 2r and 0.15r (the issue's own example), a comb of teeth thinner than 2r, a spiral
+strip thinner than 2r, a union of random disks.
+
 Each measurement runs in its own process (so that its peak memory is its own): the shape is built, then
 the baseline (``S.buffer(-r).buffer(r)`` and ``S.buffer(r).buffer(-r)`` at shapely's default quad_segs,
 8, and again at the tolerance 1e-5·r, quad_segs 176) and ``vectortighten.tighten(S, r)`` are timed
@@ -83,6 +87,41 @@ def many_parts(n: int) -> MultiPolygon:
     return MultiPolygon([p for p in parts])
 
 
+def two_harmonic_star(n: int, r: float = 1.0) -> Polygon:
+    """The issue's own example: ripples of 2r and 0.15r (harmonics 31 and 173) on a smooth wave."""
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    rad = 30 + 3 * np.sin(5 * t) + 2 * r * np.sin(31 * t + 31) + 0.15 * r * np.sin(173 * t + 173)
+    return Polygon(np.column_stack([rad * np.cos(t), rad * np.sin(t)]))
+
+
+def comb(n: int, r: float = 1.0) -> Polygon:
+    """n/8 teeth 1.5r wide and 1.5r apart (narrower than 2r: they vanish) on a back 3.5r wide."""
+    w = 1.5 * r
+    pts = []
+    for i in range(max(2, n // 8)):
+        x = 2 * i * w
+        pts += [(x, 0.0), (x, 10 * r), (x + w, 10 * r), (x + w, 0.5 * r)]
+    end = 2 * max(2, n // 8) * w
+    return Polygon(pts + [(end, 0.5 * r), (end, -3 * r), (0.0, -3 * r)])
+
+
+def spiral_strip(n: int, r: float = 1.0) -> Polygon:
+    """A strip 1.6r wide wound three times (thinner than 2r: its tightening is empty)."""
+    t = np.linspace(0, 6 * np.pi, n // 2)
+    a = 2 + 1.2 * t
+    outer = np.column_stack([(a + 1.6 * r) * np.cos(t), (a + 1.6 * r) * np.sin(t)])
+    inner = np.column_stack([a * np.cos(t), a * np.sin(t)])
+    return Polygon(np.vstack([outer, inner[::-1]]))
+
+
+def disk_union(n: int, r: float = 1.0, seed: int = 1):
+    """The union of n/64 random disks of radius 0.5r to 3r in a 40 × 40 square (necks, pockets, islands)."""
+    rng = np.random.default_rng(seed)
+    disks = [shapely.Point(rng.uniform(0, 40, 2)).buffer(rng.uniform(0.5, 3) * r, quad_segs=16)
+             for _ in range(max(1, n // 64))]
+    return shapely.union_all(disks)
+
+
 FAMILIES = {
     "harmonic star": (harmonic_star, 1.0),
     "jagged star": (jagged_star, 0.5),
@@ -90,6 +129,16 @@ FAMILIES = {
     "coastline": (coastline, 1.5),
     "many parts": (many_parts, 1.0),
 }
+
+#: Shapes that no optimisation was tuned on (added as a check on "a star unlike the benchmark's"): run them
+#: with ``--families`` or `ab_families`; not in the default table.
+MORE_FAMILIES = {
+    "two-harmonic star": (two_harmonic_star, 1.0),
+    "comb": (comb, 1.0),
+    "spiral strip": (spiral_strip, 1.0),
+    "disk union": (disk_union, 1.0),
+}
+ALL_FAMILIES = {**FAMILIES, **MORE_FAMILIES}
 
 
 def _rss_kib() -> int:
@@ -101,7 +150,7 @@ def measure_one(family: str, n: int, repeats: int) -> dict:
     import vectortighten as vt
     from vectortighten._validation import quad_segs_for
 
-    make, r = FAMILIES[family]
+    make, r = ALL_FAMILIES[family]
     S = make(n)
     tol = 1e-5 * r
     q = quad_segs_for(r, tol)
@@ -144,7 +193,7 @@ def profile_one(family: str, n: int, top: int = 25) -> str:
 
     import vectortighten as vt
 
-    make, r = FAMILIES[family]
+    make, r = ALL_FAMILIES[family]
     S = make(n)
     pr = cProfile.Profile(time.process_time)     # CPU time: the machine is shared
     pr.enable()
@@ -224,7 +273,7 @@ def main(argv=None) -> int:
         path.write_text("\n".join(parts) + "\n")
         return 0
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--families", nargs="+", default=list(FAMILIES))
+    parser.add_argument("--families", nargs="+", default=list(FAMILIES), choices=list(ALL_FAMILIES))
     parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 10_000, 100_000, 1_000_000])
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--budget", type=float, default=60.0,
@@ -279,7 +328,7 @@ def rows_from_logs(paths) -> list[dict]:
             if m["error"]:
                 row["error"] = m["error"]
             else:
-                row.update(r=FAMILIES[m["family"]][1], parts=_PARTS.get(m["family"], "–"),
+                row.update(r=ALL_FAMILIES[m["family"]][1], parts=_PARTS.get(m["family"], "–"),
                            base8=float(m["base8"]),
                            base_tol=float(m["base_tol"]), tighten=float(m["tighten"]), path=m["path"],
                            verified=m["verified"] == "True", verify=float(m["verify"]),
