@@ -25,7 +25,7 @@ def child(root: str, family: str, n: int, repeats: int) -> dict:
 
     if not vt.__file__.startswith(root):
         raise SystemExit(f"imported {vt.__file__}, not from {root}")
-    make, r = bench_families.ALL_FAMILIES[family]
+    make, r = getattr(bench_families, "ALL_FAMILIES", bench_families.FAMILIES)[family]   # an older tree has only FAMILIES
     S = make(n)
     times = []
     for _ in range(repeats):
