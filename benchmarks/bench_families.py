@@ -322,7 +322,7 @@ def rows_from_logs(paths) -> list[dict]:
     for path in paths:
         for ln in Path(path).read_text().splitlines():
             m = _LINE.match(ln.strip())
-            if not m or m["family"] not in FAMILIES:
+            if not m or m["family"] not in ALL_FAMILIES:
                 continue
             row = {"family": m["family"], "vertices": int(m["vertices"])}
             if m["error"]:
