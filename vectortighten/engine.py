@@ -95,13 +95,19 @@ class _Frame:
 # Context: everything about S and r that the loops are tightened against
 # ---------------------------------------------------------------------------------------------------------
 class _Context:
-    def __init__(self, S: Polygon | MultiPolygon, r: float, tolerance: float, precision: float | None = None):
+    def __init__(self, S: Polygon | MultiPolygon, r: float, tolerance: float, precision: float | None = None,
+                 radii: tuple[float, float] | None = None):
         self.S = S
         self.r = r
+        # Two radii (a, b) (`two_radii`): the core disks (side +1, the centres' region S↓a) have radius a,
+        # the anticore disks (side −1, (S^c)↓b) radius b; r is then the larger, the scale of every
+        # tolerance. With one radius a = b = r, and every expression below is the one-radius one.
+        self.ra, self.rb = (r, r) if radii is None else (float(radii[0]), float(radii[1]))
+        self.two = self.ra != self.rb
         # Two precisions: the shrink and grow whose vertices give the exact centres and against which the
         # exact loops are checked are sampled finely (EXACT_CHORD_R·r); the core, fillet and thickened
         # mortar that only guide the search for the homotopy class coarsely (a tenth of the thickening).
-        self.delta = THICKEN_R * r
+        self.delta = THICKEN_R * (min(self.ra, self.rb) if self.two else r)
         self.q_exact = quad_segs_for(r, EXACT_CHORD_R * r)
         self.sag = r * (1.0 - math.cos(math.pi / (4 * self.q_exact)))
         self.q = quad_segs_for(r, DOMAIN_CHORD_R * r)
@@ -113,7 +119,8 @@ class _Context:
         # their pieces (arcs by chords within OBSTACLE_SAG_R·r), inside tests S's exact clearance. GEOS's
         # buffers E and G only guide the search for each loop's homotopy class (the free space).
         self.centers: ArcCenters
-        self.centers, self.xE, self.xG = exact_centers(S, r, precision)
+        self.centers, self.xE, self.xG = exact_centers(S, self.ra, precision,
+                                                       r_concave=self.rb if self.two else None)
         self.precision = self.xE.precision
         self.pen_center = max(1e-10 * r, 4.0 * self.precision)
         obstacle_angle = 2.0 * math.sqrt(2.0 * OBSTACLE_SAG_R)
@@ -136,7 +143,7 @@ class _Context:
                 kinds.append(np.full(len(owner), kind, dtype=np.int8))
                 owners.append(owner + len(self.opieces))
             self.opieces += [(kind, ("seg", (p, q))) for p, q in X.seg]
-            self.opieces += [(kind, ("arc", (c, r, a0, sw))) for c, a0, sw in
+            self.opieces += [(kind, ("arc", (c, X.r, a0, sw))) for c, a0, sw in
                              zip(X.arc_center, X.arc_start, X.arc_sweep)]
         self.oedges = np.concatenate(edges) if edges else np.zeros((0, 2, 2))
         self.okind = np.concatenate(kinds) if kinds else np.zeros(0, dtype=np.int8)
@@ -166,19 +173,23 @@ class _Context:
     def _guide_offsets(self):
         if self._EG is None:
             # S's exact shrink and grow sampled (`morphology._sampled`), where they can be built.
-            E = _m._sampled(self.S, self.r, self.q_exact, "shrink", self.xE)
-            G = _m._sampled(self.S, self.r, self.q_exact, "grow", self.xG)
+            E = _m._sampled(self.S, self.ra, self.q_exact, "shrink", self.xE)
+            G = _m._sampled(self.S, self.rb, self.q_exact, "grow", self.xG)
             if E is not None and G is not None:
                 self._EG = (_m._orient(E), _m._orient(G))
                 return self._EG
-            E, G = (_m._orient(P) for P in _m._offsets(self.S, self.r, self.q_exact))
+            if self.two:
+                E, G = _m._orient(_m._offsets(self.S, self.ra, self.q_exact)[0]), \
+                    _m._orient(_m._offsets(self.S, self.rb, self.q_exact)[1])
+            else:
+                E, G = (_m._orient(P) for P in _m._offsets(self.S, self.r, self.q_exact))
             # Every convex vertex of GEOS's shrink (reflex vertex of its grow) stands for a corner of the
             # exact offsets, off by up to GEOS's simplification (about r/100, more beside near-tangent
             # necks): each is moved onto the nearest exact corner within `centers.snap_window`
             # (GUIDE_MISSING_R·r at least).
-            window = snap_window(self.S, self.r, self.q_exact)
-            self._EG = (snap_onto(E, self.centers.xy[self.centers.side == 1], 1, window),
-                        snap_onto(G, self.centers.xy[self.centers.side == -1], -1, window))
+            window_a, window_b = (snap_window(self.S, x, self.q_exact) for x in (self.ra, self.rb))
+            self._EG = (snap_onto(E, self.centers.xy[self.centers.side == 1], 1, window_a),
+                        snap_onto(G, self.centers.xy[self.centers.side == -1], -1, window_b))
         return self._EG
 
     # The core and fillet here only guide the search for each loop's homotopy class: the free space is
@@ -189,10 +200,10 @@ class _Context:
     @property
     def R(self):
         if self._R is None:
-            grown = _m._grow_raw(self.E, self.r, self.q) if not self.E.is_empty else Polygon()
+            grown = _m._grow_raw(self.E, self.ra, self.q) if not self.E.is_empty else Polygon()
             extra = self._missing(self.xE, self.E)
             if extra is not None:
-                grown = shapely.union(grown, extra.buffer(self.r, quad_segs=self.q))
+                grown = shapely.union(grown, extra.buffer(self.ra, quad_segs=self.q))
             # The exact pieces GEOS lost may reach past GEOS's fillet by GEOS's own error: the guide core
             # stays inside the guide fillet, so that the free space is a thickened mortar.
             self._R = _m._orient(_m._polygonal(shapely.intersection(shapely.intersection(grown, self.S), self.F)))
@@ -201,16 +212,16 @@ class _Context:
     @property
     def F(self):
         if self._F is None:
-            F = shapely.union(_m._shrink_raw(self.G, self.r, self.q), self.S)
+            F = shapely.union(_m._shrink_raw(self.G, self.rb, self.q), self.S)
             extra = self._missing(self.xG, None)
             if extra is not None:
-                F = shapely.difference(F, shapely.difference(extra.buffer(self.r, quad_segs=self.q), self.S))
+                F = shapely.difference(F, shapely.difference(extra.buffer(self.rb, quad_segs=self.q), self.S))
             self._F = _m._orient(_m._polygonal(F))
         return self._F
 
     def _missing(self, X, P):
         """The exact offset pieces of one side that GEOS's buffer lacks (`centers.missing_lines`)."""
-        return missing_lines(X, self.G if P is None else P, self.r, GUIDE_MISSING_R, math.pi / (2 * self.q))
+        return missing_lines(X, self.G if P is None else P, X.r, GUIDE_MISSING_R, math.pi / (2 * self.q))
 
     # -- free space ----------------------------------------------------------------------------------------
     def _build_domain(self):
@@ -250,12 +261,13 @@ class _Context:
         keys, core = _point_keys(T.xy), self._core_keys
         at = np.minimum(np.searchsorted(core, keys), max(len(core) - 1, 0))
         is_core = (core[at] == keys) if len(core) else np.zeros(len(keys), dtype=bool)
-        want = self.r - self.delta
-        slack = 0.5 * self.delta + 4.0 * self.sag_dom
         for side, mask in ((1, is_core), (-1, ~is_core)):
             kd, ids = self._kd[side]
             if kd is None or not mask.any():
                 continue
+            rad = self.ra if side > 0 else self.rb        # r itself with one radius
+            want = rad - self.delta
+            slack = 0.5 * self.delta + 4.0 * (rad * (1.0 - math.cos(math.pi / (4 * self.q))))
             d, j = kd.query(T.xy[mask])
             ok = np.abs(d - want) <= slack
             out[np.flatnonzero(mask)[ok]] = ids[j[ok]]
@@ -283,9 +295,20 @@ class _Context:
         """Whether each point lies in the closed shrink of S (+1), of its complement (−1), or neither (0)."""
         if len(xy) == 0:
             return np.zeros(0, dtype=np.int8)
-        clear = self.clearance(xy) >= self.r - self.precision
         inside = shapely.contains_xy(self.S, xy[:, 0], xy[:, 1])
+        if self.two:
+            clear = self.clearance(xy) >= np.where(inside, self.ra, self.rb) - self.precision
+        else:
+            clear = self.clearance(xy) >= self.r - self.precision
         return np.where(clear, np.where(inside, 1, -1), 0).astype(np.int8)
+
+    def radius_of(self, side):
+        """The disks' radius of a side (+1: a, −1: b), or of each side in an array; r with one radius."""
+        if not self.two:
+            return self.r
+        if np.ndim(side) == 0:
+            return self.ra if side > 0 else self.rb
+        return np.where(np.asarray(side) > 0, self.ra, self.rb)
 
     def _add_centres(self, xy: np.ndarray, side: int) -> None:
         """Append exact centres of one side, and rebuild what is indexed on the centres."""
