@@ -278,12 +278,13 @@ class _Context:
         """Whether the segment between centres ``c1`` and ``c2`` lies in the shrink (or grow) — it clears
         S's boundary by r — and ``point`` comes nearer than r to it."""
         seg = shapely.linestrings(self.cxy[[c1, c2]])
-        if shapely.distance(seg, point) >= self.r - self.pen_center:
+        rad = self.radius_of(int(self.cside[c1]))
+        if shapely.distance(seg, point) >= rad - self.pen_center:
             return False
         a, b, nxt, index = self._s_index()
         x0, y0, x1, y1 = self.S.bounds
         tiny = ZERO_SCALE * max(x1 - x0, y1 - y0, self.r)
-        si, _ = index.near_segments(self.cxy[[c1]], self.cxy[[c2]], self.r * (1 - 1e-9) - tiny)
+        si, _ = index.near_segments(self.cxy[[c1]], self.cxy[[c2]], rad * (1 - 1e-9) - tiny)
         return len(si) == 0
 
     def clearance(self, xy: np.ndarray) -> np.ndarray:
