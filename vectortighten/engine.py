@@ -382,17 +382,31 @@ class _DiskLoop:
     phi: np.ndarray          # direction of the tangent leaving each disk
     length: np.ndarray       # tangent lengths
     sweep: np.ndarray        # signed arc sweep at each disk
-    r: float
+    r: float | np.ndarray    # the radius, or (two radii) each disk's: a on side +1, b on side −1
     converged: bool = True
 
     @property
     def n(self) -> int:
         return len(self.cid)
 
+    @property
+    def rho(self) -> np.ndarray:
+        """Each disk's radius (n,)."""
+        return np.broadcast_to(np.asarray(self.r, dtype=float), (self.n,))
+
+    def _r(self, i):
+        """The radius of disk ``i`` (the radius itself with one)."""
+        return self.r if np.ndim(self.r) == 0 else float(self.r[i])
+
     def tangent_points(self):
         nrm = np.column_stack([-np.sin(self.phi), np.cos(self.phi)])
-        P = self.c - self.side[:, None] * self.r * nrm
-        Q = np.roll(self.c, -1, axis=0) - np.roll(self.side, -1)[:, None] * self.r * nrm
+        if np.ndim(self.r) == 0:
+            P = self.c - self.side[:, None] * self.r * nrm
+            Q = np.roll(self.c, -1, axis=0) - np.roll(self.side, -1)[:, None] * self.r * nrm
+        else:
+            sr = (self.side * self.r)[:, None]
+            P = self.c - sr * nrm
+            Q = np.roll(self.c, -1, axis=0) - np.roll(sr, -1, axis=0) * nrm
         return P, Q
 
     def arc_start(self) -> np.ndarray:
@@ -401,26 +415,32 @@ class _DiskLoop:
     def pieces(self):
         """``[(kind, geometry, piece_length)]``: arc i is piece 2i, the tangent leaving disk i piece 2i+1."""
         if self.n == 1:
-            return [("arc", (self.c[0], self.r, 0.0, self.sweep[0]), self.r * abs(self.sweep[0]))]
+            r0 = self._r(0)
+            return [("arc", (self.c[0], r0, 0.0, self.sweep[0]), r0 * abs(self.sweep[0]))]
         P, Q = self.tangent_points()
         a0 = self.arc_start()
         out = []
         for i in range(self.n):
-            out.append(("arc", (self.c[i], self.r, a0[i], self.sweep[i]), self.r * abs(self.sweep[i])))
+            ri = self._r(i)
+            out.append(("arc", (self.c[i], ri, a0[i], self.sweep[i]), ri * abs(self.sweep[i])))
             out.append(("seg", (P[i], Q[i]), self.length[i]))
         return out
 
     def to_loop(self, frame: _Frame | None = None) -> Loop:
         """Build the exact loop; with ``frame``, in world coordinates (as ``frame.loop_to_world``)."""
         if self.n == 1:
-            loop = Loop.circle(self.c[0], self.r, ccw=self.sweep[0] > 0)
+            loop = Loop.circle(self.c[0], self._r(0), ccw=self.sweep[0] > 0)
             return loop if frame is None else frame.loop_to_world(loop)
         affine = None if frame is None else (frame.scale, frame.ox, frame.oy)
+        if np.ndim(self.r) != 0:
+            return _two_radii_loop(self, frame)
         return Loop._from_disk_arrays(self.c, self.side.astype(float), self.r, self.phi, self.length,
                                       self.sweep, affine)
 
     @property
     def perimeter(self) -> float:
+        if np.ndim(self.r) != 0:
+            return math.fsum(self.length) + math.fsum(self.rho * np.abs(self.sweep))
         return math.fsum(self.length) + self.r * math.fsum(np.abs(self.sweep))
 
     def polyline_from(self, piece: int, point: np.ndarray, tol: float) -> np.ndarray:
@@ -459,6 +479,14 @@ class _DiskLoop:
         if kind == "arc":
             out.append(arc_pts(geom, 0.0, f)[1:-1])
         return np.concatenate(out)
+
+
+def _two_radii_loop(L: _DiskLoop, frame: _Frame | None) -> Loop:
+    """The exact loop of a disk loop with a radius per disk (`two_radii._loop_from_disks`)."""
+    from .two_radii import _loop_from_disks
+
+    return _loop_from_disks(L.c, L.side.astype(float), L.rho, L.phi, L.length, L.sweep,
+                            frame if frame is not None else _Frame(0.0, 0.0, 1.0))
 
 
 def _dedupe(cid, side, ref):
@@ -711,13 +739,19 @@ def _chain_length(ctx: _Context, cids, sides) -> float:
     s = np.asarray(sides, dtype=float)
     D = c[1:] - c[:-1]
     d = np.hypot(D[:, 0], D[:, 1])
-    k = (s[1:] - s[:-1]) * ctx.r
+    if ctx.two:       # signed radii: each disk its own side's
+        rho = s * ctx.radius_of(ctx.cside[np.asarray(cids)])
+        k = rho[1:] - rho[:-1]
+    else:
+        k = (s[1:] - s[:-1]) * ctx.r
     if (d * d < k * k * (1 - 1e-12)).any() or (d == 0).any():
         return math.inf
     L = np.sqrt(np.maximum(d * d - k * k, 0.0))
     phi = np.arctan2(D[:, 1], D[:, 0]) - np.arctan2(k, L)
     turn = np.diff(phi)
     sw = np.where(s[1:-1] > 0, np.mod(turn, _TWO_PI), -np.mod(-turn, _TWO_PI))
+    if ctx.two:
+        return float(L.sum() + (np.abs(rho[1:-1]) * np.abs(sw)).sum())
     return float(L.sum() + ctx.r * np.abs(sw).sum())
 
 
@@ -748,6 +782,8 @@ def _finish_steps(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndar
         if n > most:
             break
         c = ctx.cxy[cid]
+        if ctx.two:       # each disk its centre's side's radius
+            r = ctx.radius_of(ctx.cside[cid])
         if n == 1:
             return _DiskLoop(cid, side, c, np.zeros(1), np.zeros(1), np.array([_TWO_PI * side[0]]), r)
         phi, length, ok = tangent_directions(c, side, r, ctx.precision)
