@@ -37,7 +37,7 @@ from shapely.geometry import MultiLineString, MultiPolygon, Polygon
 from . import _convex, _fast
 from . import morphology as _m
 from ._pieces import piece_distance, piece_distances
-from ._proximity import EdgeIndex, PointIndex
+from ._proximity import EdgeIndex, PointIndex, point_segment_distance
 from ._guard import guarded_tighten
 from ._validation import check_output_size, check_radius, check_resolution, check_shape, check_tolerance, \
     quad_segs_for
@@ -567,7 +567,10 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
     if len(seg_ids):
         sp, sq = P[seg_ids], Q[seg_ids]
         mid = 0.5 * (sp + sq)
-        si, _ = ctx.cindex.near_segments(sp, sq, thr_c)
+        si, cj = ctx.cindex.near_segments(sp, sq, thr_c)
+        if ctx.two:       # the query took the larger radius: each centre by its own side's
+            si = si[point_segment_distance(ctx.cxy[cj], sp[si], sq[si])
+                    <= ctx.radius_of(ctx.cside[cj]) - ctx.pen_center]
         for i in np.unique(si):
             flag(2 * int(seg_ids[i]) + 1, mid[i])
         si, ei = ctx.oindex.near_segments(sp, sq, thr_c + ctx.osag)
@@ -583,9 +586,12 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
         first = np.repeat(np.cumsum(m - 1) - (m - 1), m - 1)
         frac = (np.arange(len(owner)) - first + 1) / np.repeat(m, m - 1)
         th = a0[owner] + L.sweep[owner] * frac
-        pts = np.column_stack([L.c[owner, 0] + r * np.cos(th), L.c[owner, 1] + r * np.sin(th)])
+        ro = r if not ctx.two else L.rho[owner]
+        pts = np.column_stack([L.c[owner, 0] + ro * np.cos(th), L.c[owner, 1] + ro * np.sin(th)])
         pi, ci = ctx.cindex.near_points(pts, thr_c)
         keep = ci != L.cid[owner[pi]]
+        if ctx.two:
+            keep &= np.hypot(*(pts[pi] - ctx.cxy[ci]).T) <= ctx.radius_of(ctx.cside[ci]) - ctx.pen_center
         for k in np.unique(pi[keep]):
             flag(2 * int(owner[k]), pts[k])
         # The arc lies within its chords' sag of the chords through its samples and ends: the query on
@@ -597,14 +603,16 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
         t0, t1 = k_c / np.repeat(m, m), (k_c + 1) / np.repeat(m, m)
         th0 = a0[own_c] + L.sweep[own_c] * t0
         th1 = a0[own_c] + L.sweep[own_c] * t1
-        cp = np.column_stack([L.c[own_c, 0] + r * np.cos(th0), L.c[own_c, 1] + r * np.sin(th0)])
-        cq = np.column_stack([L.c[own_c, 0] + r * np.cos(th1), L.c[own_c, 1] + r * np.sin(th1)])
+        rc = r if not ctx.two else L.rho[own_c]
+        cp = np.column_stack([L.c[own_c, 0] + rc * np.cos(th0), L.c[own_c, 1] + rc * np.sin(th0)])
+        cq = np.column_stack([L.c[own_c, 0] + rc * np.cos(th1), L.c[own_c, 1] + rc * np.sin(th1)])
         step = float((np.abs(L.sweep[arcs]) / m).max(initial=0.0))
         reach = thr_c + ctx.osag + r * (1.0 - math.cos(0.5 * step)) + 1e-12 * r
         pi, ei = ctx.oindex.near_segments(cp, cq, reach)
-        arc_arrays = (np.ones(n, dtype=bool), np.column_stack([L.c, np.full(n, r), a0, L.sweep]))
-        for k, e, x in _exact_entries(ctx, lambda i: ("arc", (L.c[i], r, a0[i], L.sweep[i])), own_c[pi], ei,
-                                      thr_c, arc_arrays):
+        arc_arrays = (np.ones(n, dtype=bool), np.column_stack([L.c, np.full(n, r) if not ctx.two else L.rho, a0,
+                                                                L.sweep]))
+        for k, e, x in _exact_entries(ctx, lambda i: ("arc", (L.c[i], L._r(i), a0[i], L.sweep[i])), own_c[pi],
+                                      ei, thr_c, arc_arrays):
             flag(2 * int(k), x, (e,))
     found: dict[int, tuple | None] = {}
     for piece in sorted(bad):
@@ -661,6 +669,10 @@ def _exact_entries(ctx: _Context, piece_of, li: np.ndarray, ei: np.ndarray, thr:
     first = np.ones(len(li), dtype=bool)
     first[1:] = (li[1:] != li[:-1]) | (pj[1:] != pj[:-1])
     li, pj, ei = li[first], pj[first], ei[first]
+    if ctx.two:
+        # Two radii: ``thr`` is the larger radius less the allowance; each obstacle piece takes its own
+        # side's radius (a for the shrink S↓a, b for (S^c)↓b) less the same allowance.
+        return _exact_entries_two(ctx, piece_of, li, pj, ei, ctx.radius_of(ctx.okind[ei]) - (ctx.r - thr), arrays)
     if arrays is not None:
         # Most pairs are a loop piece resting on the obstacle (distance r, above thr by pen_center): the
         # vectorised distances set aside those clearly at or beyond thr, the rest are decided exactly.
@@ -674,6 +686,24 @@ def _exact_entries(ctx: _Context, piece_of, li: np.ndarray, ei: np.ndarray, thr:
     for i, j, e in zip(li.tolist(), pj.tolist(), ei.tolist()):
         d, x, _ = piece_distance(piece_of(i), ctx.opieces[j][1])
         if d < thr:
+            out.append((i, e, x))
+    return out
+
+
+def _exact_entries_two(ctx: _Context, piece_of, li, pj, ei, thr: np.ndarray, arrays):
+    """`_exact_entries` with a threshold per (loop piece, obstacle piece) pair (two radii)."""
+    out = []
+    if arrays is not None:
+        is_arc, params = arrays
+        o_arc, o_params = _obstacle_arrays(ctx)
+        d = piece_distances(is_arc[li], params[li], o_arc[pj], o_params[pj])
+        size = 1.0 + ctx.r + max(float(np.abs(params[:, :2]).max()), float(np.abs(o_params[:, :2]).max()))
+        margin = max(0.1 * ctx.pen_center, 64 * np.finfo(float).eps * size)
+        near = ~(d >= thr + margin)
+        li, pj, ei, thr = li[near], pj[near], ei[near], thr[near]
+    for i, j, e, t in zip(li.tolist(), pj.tolist(), ei.tolist(), thr.tolist()):
+        d, x, _ = piece_distance(piece_of(i), ctx.opieces[j][1])
+        if d < t:
             out.append((i, e, x))
     return out
 
