@@ -736,7 +736,11 @@ def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
     near = np.array([c for c in near.tolist() if c not in own], dtype=np.int64)
     if len(near):
         d = shapely.distance(geom, shapely.points(ctx.cxy[near]))
-        if d.min() < ctx.r - ctx.pen_center:
+        if ctx.two:       # each centre by its own side's radius: the deepest entered
+            depth = ctx.radius_of(ctx.cside[near]) - d
+            if depth.max() > ctx.pen_center:
+                return int(near[np.argmax(depth)])
+        elif d.min() < ctx.r - ctx.pen_center:
             return int(near[np.argmin(d)])
     if edges:
         if shapely.get_type_id(geom) == 1:
