@@ -919,7 +919,8 @@ def _piece_arrays(loops: list[_DiskLoop]):
     lines, owner, index, start, stop, totals = [], [], [], [], [], []
     for li, L in enumerate(loops):
         n = L.n
-        arc_len = L.r * np.abs(L.sweep)
+        rr = L.r if np.ndim(L.r) == 0 else L.rho           # each disk's radius with two radii
+        arc_len = rr * np.abs(L.sweep)
         seg_len = L.length if n > 1 else np.zeros(1)
         lens = np.empty(2 * n)
         lens[0::2], lens[1::2] = arc_len, seg_len
@@ -933,7 +934,8 @@ def _piece_arrays(loops: list[_DiskLoop]):
             first = np.repeat(np.cumsum(m) - m, m)
             f = (np.arange(len(ow)) - first) / np.repeat(m - 1, m)
             th = a0[arcs][ow] + L.sweep[arcs][ow] * f
-            pts = L.c[arcs][ow] + L.r * np.column_stack([np.cos(th), np.sin(th)])
+            ra = rr if np.ndim(rr) == 0 else rr[arcs][ow][:, None]
+            pts = L.c[arcs][ow] + ra * np.column_stack([np.cos(th), np.sin(th)])
             lines.append(shapely.linestrings(pts, indices=ow))
             owner.append(np.full(len(arcs), li))
             index.append(2 * arcs)
@@ -962,6 +964,9 @@ def _contacts(ctx: _Context, loops: list[_DiskLoop]):
     """
     touch = TOUCH_SCALE
     r = ctx.r
+    # Between two places where a loop meets itself it turns by π: along it at least π times its smallest
+    # radius of curvature (the smaller of two radii).
+    r_turn = min(ctx.ra, ctx.rb) if getattr(ctx, "two", False) else r
     arrays = _piece_arrays(loops)
     if arrays is None:
         return []
@@ -976,7 +981,7 @@ def _contacts(ctx: _Context, loops: list[_DiskLoop]):
     # span from the first one's start to the last one's end (the exact test below is then always false).
     same = owner[ia] == owner[ib]
     far = np.maximum(stop[ia], stop[ib]) - np.minimum(start[ia], start[ib])          # widest separation
-    keep = ~same | (far >= 0.9 * math.pi * r)
+    keep = ~same | (far >= 0.9 * math.pi * r_turn)
     out = []
     used = set()
     pieces_cache = {}
@@ -997,7 +1002,7 @@ def _contacts(ctx: _Context, loops: list[_DiskLoop]):
             sb = start[b] + _along(Pb, y)
             gap = abs(sa - sb)
             gap = min(gap, totals[la] - gap)
-            if gap < 0.9 * math.pi * r:
+            if gap < 0.9 * math.pi * r_turn:
                 continue
         out.append((la, int(index[a]), x, lb, int(index[b]), y))
         used.update((la, lb))
@@ -1033,7 +1038,8 @@ def _reconnect(ctx: _Context, loops: list[_DiskLoop], contact) -> list[np.ndarra
     step = np.hypot(*np.diff(np.vstack([full, full[:1]]), axis=0).T)
     along = np.concatenate([[0.0], np.cumsum(step)[:-1]])
     total = along[-1] + step[-1]
-    away = np.minimum(along, total - along) >= 0.4 * math.pi * ctx.r
+    r_turn = min(ctx.ra, ctx.rb) if ctx.two else ctx.r
+    away = np.minimum(along, total - along) >= 0.4 * math.pi * r_turn
     d = np.where(away, np.hypot(*(full - y).T), np.inf)
     k = int(np.argmin(d))
     first = np.concatenate([full[: k + 1], [y]])
