@@ -1129,7 +1129,7 @@ def _exact_depths(ctx: _Context, L: _DiskLoop, limit: float = 0.0) -> tuple[floa
     where = ctx.in_regions(np.array(mids))
     for s in (1, -1):
         if (where == s).any():
-            depth[s] = r
+            depth[s] = ctx.radius_of(s)
     if len(ctx.oedges) == 0:
         return depth[1], depth[-1]
     owner = np.array(owner, dtype=np.int64)
@@ -1169,13 +1169,15 @@ def _exact_depths(ctx: _Context, L: _DiskLoop, limit: float = 0.0) -> tuple[floa
         d = piece_distances(is_arc[li], params[li], o_arc[pj], o_params[pj])
         size = 1.0 + r + max(float(np.abs(params[:, :2]).max()), float(np.abs(o_params[:, :2]).max()))
         margin = 64 * np.finfo(float).eps * size                  # ≫ their rounding
-        keep = ~(r - d - allow[li] <= limit - margin)             # NaN: decide exactly
+        rad = r if not ctx.two else ctx.radius_of(np.array([ctx.opieces[j][0] for j in pj.tolist()]))
+        keep = ~(rad - d - allow[li] <= limit - margin)           # NaN: decide exactly
         li, pj = li[keep], pj[keep]
     for i, j in zip(li.tolist(), pj.tolist()):
         side, piece = ctx.opieces[j]
         d, _, _ = piece_distance(pieces[i], piece)
-        if r - d - allow[i] > max(depth[side], limit):
-            depth[side] = r - d - allow[i]
+        rad = r if not ctx.two else ctx.radius_of(side)
+        if rad - d - allow[i] > max(depth[side], limit):
+            depth[side] = rad - d - allow[i]
     return depth[1], depth[-1]
 
 
