@@ -1540,11 +1540,10 @@ def tighten(S, r: float | tuple[float, float], *, init: str | Init = "core",
         The radius, > 0, in the units of S. Or two radii ``(r_convex, r_concave)`` = (a, b), each ≥ 0 and
         not both 0: the core is ``R_a(S)``, the fillet ``F_b(S)``, arcs turning left have radius a and
         arcs turning right radius b, and a radius 0 keeps those corners sharp (``(0, tool_radius)``: the
-        CNC inside-corner rule). ``(r, r)`` is r itself. Two different radii are computed where every
-        corner of S is isolated (its disk fits and meets nothing else) or S is a convex polygon, and
-        return a `two_radii.TwoRadiiTightening` (``T.r`` is then the larger radius, ``T.radii`` the
-        pair); elsewhere `two_radii.TwoRadiiNotSupportedError` is raised (the general engine has one
-        radius only).
+        CNC inside-corner rule). ``(r, r)`` is r itself. Two different radii return a
+        `two_radii.TwoRadiiTightening` (``T.r`` is then the larger radius, ``T.radii`` the pair); a
+        radius 0, or ``init="mason"``, on a shape whose corners interact raises
+        `two_radii.TwoRadiiNotSupportedError` (see `vectortighten.two_radii`).
     init : {"core", "input", "mason"}
         The flow's initial condition: ``"core"`` starts from the core (the paper's implementation: thin
         parts and constrictions go), ``"input"`` from S itself (self-dual, §4.2: tight constrictions
