@@ -420,8 +420,9 @@ class _DiskLoop:
         P, Q = self.tangent_points()
         a0 = self.arc_start()
         out = []
+        one = np.ndim(self.r) == 0
         for i in range(self.n):
-            ri = self._r(i)
+            ri = self.r if one else float(self.r[i])
             out.append(("arc", (self.c[i], ri, a0[i], self.sweep[i]), ri * abs(self.sweep[i])))
             out.append(("seg", (P[i], Q[i]), self.length[i]))
         return out
