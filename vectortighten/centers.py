@@ -196,8 +196,18 @@ def exact_centers(S, r: float, precision: float | None = None, r_concave: float 
 
     S = _orient(S)
     rb = r if r_concave is None else r_concave
-    E = exact_offsets(S, r, 1, precision=precision)
-    G = exact_offsets(S, rb, -1, precision=precision)
+    if r == 0 or rb == 0:
+        # Two radii, one of them 0: that side's "shrink" is S itself (its own closure), its corners S's
+        # convex (side +1) or reflex (−1) vertices (`_zero_radius`).
+        from ._zero_radius import zero_offsets
+        from .offsets import precision_of
+
+        prec = precision_of(S) if precision is None else precision
+        E = zero_offsets(S, 1, prec) if r == 0 else exact_offsets(S, r, 1, precision=precision)
+        G = zero_offsets(S, -1, prec) if rb == 0 else exact_offsets(S, rb, -1, precision=precision)
+    else:
+        E = exact_offsets(S, r, 1, precision=precision)
+        G = exact_offsets(S, rb, -1, precision=precision)
     xy = np.concatenate([E.corners, G.corners])
     side = np.concatenate([np.ones(len(E.corners), np.int8), -np.ones(len(G.corners), np.int8)])
     a, b, nxt = boundary_edges(S)
