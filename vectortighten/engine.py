@@ -104,10 +104,13 @@ class _Context:
         # tolerance. With one radius a = b = r, and every expression below is the one-radius one.
         self.ra, self.rb = (r, r) if radii is None else (float(radii[0]), float(radii[1]))
         self.two = self.ra != self.rb
+        # A radius 0 on one side (`_zero_radius`): its disks are S's own vertices, its region S (side +1)
+        # or S's complement (−1), which the loop may not enter; ``zero`` is that side, else 0.
+        self.zero = 0 if min(self.ra, self.rb) > 0 else (1 if self.ra == 0 else -1)
         # Two precisions: the shrink and grow whose vertices give the exact centres and against which the
         # exact loops are checked are sampled finely (EXACT_CHORD_R·r); the core, fillet and thickened
         # mortar that only guide the search for the homotopy class coarsely (a tenth of the thickening).
-        self.delta = THICKEN_R * (min(self.ra, self.rb) if self.two else r)
+        self.delta = THICKEN_R * ((min(self.ra, self.rb) or max(self.ra, self.rb)) if self.two else r)
         self.q_exact = quad_segs_for(r, EXACT_CHORD_R * r)
         self.sag = r * (1.0 - math.cos(math.pi / (4 * self.q_exact)))
         self.q = quad_segs_for(r, DOMAIN_CHORD_R * r)
@@ -132,8 +135,12 @@ class _Context:
         self.cxy, self.cside = _distinct_centers(self.centers.xy, self.centers.side.astype(np.int64), r)
         self._index_centres()
         self._s_edges = None
+        if self.zero:
+            self._index_zero_vertices()
         edges, kinds, owners, self.opieces = [], [], [], []
         for kind, X in ((1, self.xE), (-1, self.xG)):
+            if X.r == 0:
+                continue          # a radius 0: no distance obstacle (`_zero_radius.zero_entries` instead)
             xy, start = X.polyline_points(obstacle_angle)  # the straight pieces first, then the arcs
             if len(start) > 1:
                 # The chords of every polyline: from each point that is not its polyline's last.
@@ -173,12 +180,15 @@ class _Context:
     def _guide_offsets(self):
         if self._EG is None:
             # S's exact shrink and grow sampled (`morphology._sampled`), where they can be built.
-            E = _m._sampled(self.S, self.ra, self.q_exact, "shrink", self.xE)
-            G = _m._sampled(self.S, self.rb, self.q_exact, "grow", self.xG)
+            E = _m._sampled(self.S, self.ra, self.q_exact, "shrink", self.xE) if self.ra > 0 else self.S
+            G = _m._sampled(self.S, self.rb, self.q_exact, "grow", self.xG) if self.rb > 0 else self.S
             if E is not None and G is not None:
                 self._EG = (_m._orient(E), _m._orient(G))
                 return self._EG
-            if self.two:
+            if self.zero:
+                E = _m._orient(self.S if self.ra == 0 else _m._offsets(self.S, self.ra, self.q_exact)[0])
+                G = _m._orient(self.S if self.rb == 0 else _m._offsets(self.S, self.rb, self.q_exact)[1])
+            elif self.two:
                 E, G = _m._orient(_m._offsets(self.S, self.ra, self.q_exact)[0]), \
                     _m._orient(_m._offsets(self.S, self.rb, self.q_exact)[1])
             else:
@@ -199,6 +209,8 @@ class _Context:
     # (the shrink of the grow drops bumps of it, and then misses S by that much): the overlays with S stay.
     @property
     def R(self):
+        if self._R is None and self.ra == 0:
+            self._R = _m._orient(self.S)      # radius 0: the core is S
         if self._R is None:
             grown = _m._grow_raw(self.E, self.ra, self.q) if not self.E.is_empty else Polygon()
             extra = self._missing(self.xE, self.E)
@@ -211,6 +223,8 @@ class _Context:
 
     @property
     def F(self):
+        if self._F is None and self.rb == 0:
+            self._F = _m._orient(self.S)      # radius 0: the fillet is S
         if self._F is None:
             F = shapely.union(_m._shrink_raw(self.G, self.rb, self.q), self.S)
             extra = self._missing(self.xG, None)
@@ -221,6 +235,8 @@ class _Context:
 
     def _missing(self, X, P):
         """The exact offset pieces of one side that GEOS's buffer lacks (`centers.missing_lines`)."""
+        if X.r == 0:
+            return None
         return missing_lines(X, self.G if P is None else P, X.r, GUIDE_MISSING_R, math.pi / (2 * self.q))
 
     # -- free space ----------------------------------------------------------------------------------------
@@ -269,6 +285,9 @@ class _Context:
             want = rad - self.delta
             slack = 0.5 * self.delta + 4.0 * (rad * (1.0 - math.cos(math.pi / (4 * self.q))))
             d, j = kd.query(T.xy[mask])
+            if rad == 0:
+                # A radius 0: the vertex is S's own, mitred by δ (at most 10δ by the mitre limit).
+                want, slack = 0.0, 12.0 * self.delta
             ok = np.abs(d - want) <= slack
             out[np.flatnonzero(mask)[ok]] = ids[j[ok]]
         return out
@@ -297,11 +316,31 @@ class _Context:
         if len(xy) == 0:
             return np.zeros(0, dtype=np.int8)
         inside = shapely.contains_xy(self.S, xy[:, 0], xy[:, 1])
-        if self.two:
+        if self.zero:
+            # A radius 0: strictly inside its region, beyond the rounding (the loop runs along S's edges).
+            need = np.where(inside, self.ra, self.rb)
+            clear = self.clearance(xy) >= np.where(need == 0, self.pen_center, need - self.precision)
+        elif self.two:
             clear = self.clearance(xy) >= np.where(inside, self.ra, self.rb) - self.precision
         else:
             clear = self.clearance(xy) >= self.r - self.precision
         return np.where(clear, np.where(inside, 1, -1), 0).astype(np.int8)
+
+    def _index_zero_vertices(self) -> None:
+        """For a radius 0: each vertex of S (numbered as `centers.boundary_edges`) and its centre, if any."""
+        a, _, _ = boundary_edges(self.S)
+        self._zero_vertex = {}
+        for j, key in enumerate(map(tuple, a.tolist())):
+            self._zero_vertex.setdefault(key, j)
+        self.zero_vertex_centre = np.full(len(a), -1, dtype=np.int64)
+        for ci in np.flatnonzero(self.cside == self.zero).tolist():
+            j = self._zero_vertex.get(tuple(self.cxy[ci].tolist()), -1)
+            if j >= 0:
+                self.zero_vertex_centre[j] = ci
+
+    def zero_vertex_at(self, x) -> int:
+        """The vertex of S at exactly ``x`` (its number), or −1."""
+        return self._zero_vertex.get((float(x[0]), float(x[1])), -1)
 
     def radius_of(self, side):
         """The disks' radius of a side (+1: a, −1: b), or of each side in an array; r with one radius."""
