@@ -42,6 +42,7 @@ from ._guard import guarded_tighten
 from ._validation import check_output_size, check_radius, check_resolution, check_shape, check_tolerance, \
     quad_segs_for
 from .centers import ArcCenters, boundary_edges, exact_centers, missing_lines, snap_onto, snap_window
+from ._zero_radius import zero_entries
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
@@ -617,7 +618,13 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
         seg_arrays = (np.zeros(len(sp), dtype=bool), np.column_stack([sp, sq, np.zeros(len(sp))]))
         for i, e, _ in _exact_entries(ctx, lambda i: ("seg", (sp[i], sq[i])), si, ei, thr_c, seg_arrays):
             flag(2 * int(seg_ids[i]) + 1, mid[i], (e,))
-        for i in np.flatnonzero(ctx.in_regions(mid) != 0):
+        region = ctx.in_regions(mid)
+        if ctx.zero:      # a radius 0: entries into its region are judged below (`_zero_radius`)
+            region[region == ctx.zero] = 0
+            zero_hits = {2 * int(seg_ids[i]) + 1: (ci, ctx.zero, 0)
+                         for i, ci, depth in zero_entries(ctx, sp, sq, ctx.zero)
+                         if ci >= 0 and depth > ctx.pen_center}
+        for i in np.flatnonzero(region != 0):
             flag(2 * int(seg_ids[i]) + 1, mid[i])
     # Arcs: points along each, tested against the other centres and the obstacle edges.
     if len(arcs):
@@ -669,6 +676,8 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
         if kind == "seg":
             d = Q[disk] - P[disk]
             side = 1 if (d[0] * (cxy[1] - P[disk][1]) - d[1] * (cxy[0] - P[disk][0])) > 0 else -1
+            if ctx.two:   # two radii: a disk is wrapped from its own side only (its radius is that side's)
+                side = int(ctx.cside[ci])
             found[piece] = (ci, side, 0)
         else:
             c = L.c[disk]
@@ -676,10 +685,16 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
             v = where - c
             tangent = s * np.array([-v[1], v[0]])
             side = 1 if (tangent[0] * (cxy[1] - where[1]) - tangent[1] * (cxy[0] - where[0])) > 0 else -1
+            if ctx.two:
+                side = int(ctx.cside[ci])
             th = math.atan2(v[1], v[0])
             frac = ((th - a0[disk]) % _TWO_PI) / abs(L.sweep[disk]) if s > 0 else \
                 ((a0[disk] - th) % _TWO_PI) / abs(L.sweep[disk])
             found[piece] = (ci, side, -1 if frac < 0.5 else 1)
+    if ctx.zero and len(seg_ids):
+        for piece, hit in zero_hits.items():
+            if found.get(piece) is None:
+                found[piece] = hit
     if cache is not None and len(ctx.cxy) != n_centres:
         cache.clear()                     # centres were added on the way: outcomes before may be stale
     elif cache is not None:
