@@ -492,6 +492,8 @@ class _DiskLoop:
 
         def arc_pts(geom, frac0, frac1):
             c, r, a0, sw = geom
+            if r == 0:            # a radius 0 (two radii): the corner itself
+                return np.array([c, c], dtype=float)
             span = sw * (frac1 - frac0)
             n = max(1, math.ceil(abs(span) / (2 * math.acos(max(-1.0, 1 - tol / r)))))
             th = a0 + sw * frac0 + span * np.arange(n + 1) / n
@@ -503,7 +505,7 @@ class _DiskLoop:
                 d = q - p
                 L2 = d @ d
                 return 0.0 if L2 == 0 else float(np.clip(((x - p) @ d) / L2, 0, 1))
-            return _along((kind, geom, 0.0), x) / (geom[1] * abs(geom[3])) if geom[3] != 0 else 0.0
+            return _along((kind, geom, 0.0), x) / (geom[1] * abs(geom[3])) if geom[3] != 0 and geom[1] > 0 else 0.0
 
         kind, geom, _ = pcs[piece]
         f = frac_of(kind, geom, point)
@@ -1021,7 +1023,7 @@ def _contacts(ctx: _Context, loops: list[_DiskLoop]):
     r = ctx.r
     # Between two places where a loop meets itself it turns by π: along it at least π times its smallest
     # radius of curvature (the smaller of two radii).
-    r_turn = min(ctx.ra, ctx.rb) if getattr(ctx, "two", False) else r
+    r_turn = (min(ctx.ra, ctx.rb) or max(ctx.ra, ctx.rb)) if getattr(ctx, "two", False) else r
     arrays = _piece_arrays(loops)
     if arrays is None:
         return []
@@ -1093,7 +1095,7 @@ def _reconnect(ctx: _Context, loops: list[_DiskLoop], contact) -> list[np.ndarra
     step = np.hypot(*np.diff(np.vstack([full, full[:1]]), axis=0).T)
     along = np.concatenate([[0.0], np.cumsum(step)[:-1]])
     total = along[-1] + step[-1]
-    r_turn = min(ctx.ra, ctx.rb) if ctx.two else ctx.r
+    r_turn = (min(ctx.ra, ctx.rb) or max(ctx.ra, ctx.rb)) if ctx.two else ctx.r
     away = np.minimum(along, total - along) >= 0.4 * math.pi * r_turn
     d = np.where(away, np.hypot(*(full - y).T), np.inf)
     k = int(np.argmin(d))
