@@ -1187,6 +1187,15 @@ def _exact_depths(ctx: _Context, L: _DiskLoop, limit: float = 0.0) -> tuple[floa
     for s in (1, -1):
         if (where == s).any():
             depth[s] = ctx.radius_of(s)
+    if ctx.zero:
+        # A radius 0: how far a straight piece enters that side's region, by its boundary chain
+        # (`_zero_radius`); a piece lying inside it (its middle in the region) enters it wholly.
+        segs = [g for k, g in pieces if k == "seg"]
+        if segs:
+            P0, Q0 = (np.array([g[m] for g in segs]) for m in (0, 1))
+            deepest = max((d for _, _, d in zero_entries(ctx, P0, Q0, ctx.zero)), default=0.0)
+            depth[ctx.zero] = max(depth[ctx.zero], r if (where == ctx.zero).any() else 0.0,
+                                  deepest if deepest > limit else 0.0)
     if len(ctx.oedges) == 0:
         return depth[1], depth[-1]
     owner = np.array(owner, dtype=np.int64)
