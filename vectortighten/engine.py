@@ -1607,8 +1607,8 @@ def tighten(S, r: float | tuple[float, float], *, init: str | Init = "core",
         not both 0: the core is ``R_a(S)``, the fillet ``F_b(S)``, arcs turning left have radius a and
         arcs turning right radius b, and a radius 0 keeps those corners sharp (``(0, tool_radius)``: the
         CNC inside-corner rule). ``(r, r)`` is r itself. Two different radii return a
-        `two_radii.TwoRadiiTightening` (``T.r`` is then the larger radius, ``T.radii`` the pair); a
-        radius 0, or ``init="mason"``, on a shape whose corners interact raises
+        `two_radii.TwoRadiiTightening` (``T.r`` is then the larger radius, ``T.radii`` the pair);
+        ``init="mason"`` on a shape whose corners interact raises
         `two_radii.TwoRadiiNotSupportedError` (see `vectortighten.two_radii`).
     init : {"core", "input", "mason"}
         The flow's initial condition: ``"core"`` starts from the core (the paper's implementation: thin

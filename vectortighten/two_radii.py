@@ -17,13 +17,15 @@ Three paths, tried in this order:
   and obstacles of side +1 are the corners and pieces of ``S↓a``, those of side −1 of ``(S^c)↓b``, the
   free space lies between ``R_a`` and ``F_b``, tangents join disks of signed radii (DESIGN §3.1), every
   violation test, contact and depth is measured at the radius of the side it concerns, and `verify` runs
-  the engine's exact tests on the result.
+  the engine's exact tests on the result. A radius 0 there (`_zero_radius`): that side's disks are S's
+  own convex (a = 0) or reflex (b = 0) vertices, the guide core (fillet) is S, and a straight piece that
+  enters S's interior (a = 0) or leaves S (b = 0) — GEOS's exact DE-9IM relation — gets the farthest
+  corner of the boundary chain it cuts off as the disk to add; the depth of such an entry is what
+  `verify` bounds.
 
-Not yet supported on the general engine (`TwoRadiiNotSupportedError`, never a silently wrong answer): a
-radius 0 (its disks are S's vertices themselves, and the loop may not cross S's boundary, a test the
-engine's distance-based checks do not make), and ``init="mason"`` (Mason(S) for two radii is not
-defined here). A pair ``(r, r)`` is the one-radius tightening itself (the same code path, the same
-numbers).
+Not supported on the general engine (`TwoRadiiNotSupportedError`, never a silently wrong answer):
+``init="mason"`` (Mason(S) for two radii is not defined here). A pair ``(r, r)`` is the one-radius
+tightening itself (the same code path, the same numbers).
 """
 
 from __future__ import annotations
@@ -50,9 +52,8 @@ __all__ = ["TwoRadiiNotSupportedError", "TwoRadiiTightening", "is_pair", "parse_
 class TwoRadiiNotSupportedError(TighteningError, NotImplementedError):
     """Two different radii where no two-radii path applies.
 
-    Positive pairs are computed on every shape. A radius 0 is computed where every corner of S is
-    isolated or S is convex, not yet on the general engine; ``init="mason"`` with two radii only where
-    every corner is isolated. Use two positive radii (or ``init="core"``/``"input"``).
+    Every pair is computed with ``init="core"`` or ``"input"``; ``init="mason"`` with two radii only
+    where every corner of S is isolated or S is convex. Use ``init="core"`` or ``"input"`` there.
     """
 
 
@@ -231,7 +232,7 @@ def tighten_two_radii(S, radii, *, init="core", tolerance: float | None = None):
     InvalidRadiusError
         For a bad pair (see `parse_radii`) or a positive radius below what doubles resolve for S.
     TwoRadiiNotSupportedError
-        For a radius 0 or ``init="mason"`` where the general engine is needed (see the module notes).
+        For ``init="mason"`` where the general engine is needed (see the module notes).
 
     Examples
     --------
@@ -330,7 +331,11 @@ def _general_check(T) -> list[str]:
 
     x0, y0, x1, y1 = T.shape.bounds
     rounding = rounding_length(max(x1 - x0, y1 - y0), max(abs(x0), abs(y0), abs(x1), abs(y1)))
-    return containment_problems(T) + _corner_problems(T, rounding)
+    if min(T.radii) > 0:
+        return containment_problems(T) + _corner_problems(T, rounding)
+    # A radius 0 keeps sharp corners turning its way: only corners turning the other way are wrong.
+    bad = sum(_bad_corners(loop, *T.radii, rounding) for loop in T.loops)
+    return containment_problems(T) + ([f"{bad} corner(s) turn the way whose radius is positive"] if bad else [])
 
 
 def _not_supported(a: float, b: float, why: str) -> TwoRadiiNotSupportedError:
@@ -380,9 +385,6 @@ def _tighten_pair_general(S, S_local, frame, a: float, b: float, init, tol: floa
     from ._guard import drop_specks
     from .engine import Init, _assemble, _Context, _initial_rings, _tighten_all
 
-    if min(a, b) == 0:
-        raise _not_supported(a, b, "does not take a radius 0 yet (some corners' disks interact or a part "
-                                   "is too thin): use two positive radii")
     if init is Init.MASON:
         raise _not_supported(a, b, "has no Mason(S) for two radii: use init='core' or 'input'")
     a_l, b_l = a / frame.scale, b / frame.scale
@@ -432,10 +434,8 @@ def _verify(T) -> list[str]:
     frame = T._cache.get("_frame")
     general = T._cache.get("_path") == "general"
     if general:
-        from .engine import _exact_containment
-
         ctx, _ = T._exact_context()
-        problems += _exact_containment(ctx, frame, G, T.loops, tol, rounding)
+        problems += _exact_a(T, None, frame, slack, tiny, offsets=(ctx.xE, ctx.xG))
     elif T._cache.get("_path") == "empty" or info is None:
         R, _, _ = two_radii_morphology(T.shape, T.radii, tolerance=tol / 4)
         if not R.is_empty and R.difference(G.buffer(slack)).area > tiny:
@@ -472,11 +472,16 @@ def _verify(T) -> list[str]:
     return problems
 
 
-def _exact_a(T, info, frame, slack: float, tiny: float) -> list[str]:
-    """(a) for a result of the fast or the convex path, on S's exact offsets (see `_verify`)."""
+def _exact_a(T, info, frame, slack: float, tiny: float, offsets=None) -> list[str]:
+    """(a) for a result of the fast or the convex path, on S's exact offsets (see `_verify`); for the
+    general engine's, on the offsets its context holds (``offsets``: side +1's and side −1's)."""
     from .offsets import exact_offsets
 
-    S_local, _, (a_l, b_l), precision, _, _ = info
+    if offsets is not None:
+        xE, xG = offsets
+        a_l, b_l = xE.r, xG.r
+    else:
+        S_local, _, (a_l, b_l), precision, _, _ = info
     G = T.geometry
     G_local = frame.to_local(G) if not G.is_empty else G
     shapely.prepare(G_local)
@@ -488,7 +493,7 @@ def _exact_a(T, info, frame, slack: float, tiny: float) -> list[str]:
             if not inside and G.difference(T.shape.buffer(slack)).area > tiny:
                 problems.append("(a) the tightening extends outside S, its fillet for r_concave = 0")
             continue
-        X = exact_offsets(S_local, radius, side, precision=precision)
+        X = exact_offsets(S_local, radius, side, precision=precision) if offsets is None else offsets[side < 0]
         xy = X.test_points()
         if len(xy) == 0:
             continue
