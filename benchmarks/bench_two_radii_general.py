@@ -3,11 +3,12 @@
 Each round times ``tighten(S, (a, b))`` and ``tighten(S, b)`` (one radius, the larger of the pair here)
 on each shape, one after the other, so that the load of a shared machine falls on both alike; prints the
 medians and the median of the per-round ratios, the path taken, ``verify()``, the independent oracle
-(`tests/oracle.py`: ``R_a ⊆ T`` judged at a, ``T ⊆ F_b`` at b) and, for the CNC plate, the perimeter
-against its closed form.
+(`tests/oracle.py`: ``R_a ⊆ T`` judged at a, ``T ⊆ F_b`` at b; for a radius 0, S ⊆ T or T ⊆ S by area)
+and, for the CNC plate, the perimeter against its closed form.
 
-The CNC plate: 100 × 60 with a 20 × 15 corner notch and a slot 4 wide and 30 deep, at (0.5, 3) (a 6 mm end
-mill: the slot is too narrow for it, so the closing fills it but for a dip of radius 3 at its mouth).
+The CNC plate: 100 × 60 with a 20 × 15 corner notch and a slot 4 wide and 30 deep, at (0.5, 3) and at
+(0, 3) (a 6 mm end mill: the slot is too narrow for it, so the closing fills it but for a dip of radius 3
+at its mouth).
 
     python benchmarks/bench_two_radii_general.py [--rounds N]
 """
@@ -27,7 +28,8 @@ HERE = Path(__file__).resolve().parent
 def plate_perimeter(a: float, b: float, w: float = 4.0) -> float:
     """The plate's tightening at (a, b) with 2b > w, by elementary geometry: five convex corners lose
     a(2 − π/2), the notch's reflex corner b(2 − π/2), and the slot's mouth (w + 2a of the top edge) is
-    replaced by the chain a-arc, crossing tangent, b-arc under the dip, crossing tangent, a-arc."""
+    replaced by the chain a-arc, crossing tangent, b-arc under the dip, crossing tangent, a-arc (for
+    a = 0: the b-arc alone, between the mouth's corners)."""
     h = math.sqrt(b * b - (w / 2) ** 2)
     dx, dy = w / 2 + a, h + a
     d = math.hypot(dx, dy)
@@ -53,6 +55,7 @@ def shapes():
     star = max(shapely.get_parts(star), key=lambda p: p.area if p.geom_type == "Polygon" else 0)
     fps = shapely.union_all(bench_geo.footprints(16, seed=3))
     return {"CNC plate, slot 4 wide": (plate, (0.5, 3.0)),
+            "CNC plate, slot 4 wide, sharp outside": (plate, (0.0, 3.0)),
             "rippled star, 200 vertices": (star, (0.4, 1.2)),
             "16 building footprints": (fps, (1.0, 2.0))}
 
@@ -69,9 +72,16 @@ def main(argv=None) -> int:
     med = statistics.median
     for name, (S, (a, b)) in shapes().items():
         T = vt.tighten(S, (a, b))
-        ja, jb = judge(S, a, T.loops, T.geometry), judge(S, b, T.loops, T.geometry)
-        exact = (ja.core_penetration <= 1e-9 * a and not ja.core_missing
-                 and jb.anticore_penetration <= 1e-9 * b and not jb.anticore_covered)
+        if a > 0:
+            ja = judge(S, a, T.loops, T.geometry)
+            exact = ja.core_penetration <= 1e-9 * a and not ja.core_missing
+        else:                                         # R_0 is S itself
+            exact = S.difference(T.geometry).area <= 1e-9 * S.area
+        if b > 0:
+            jb = judge(S, b, T.loops, T.geometry)
+            exact &= jb.anticore_penetration <= 1e-9 * b and not jb.anticore_covered
+        else:
+            exact &= T.geometry.difference(S).area <= 1e-9 * S.area
         times = {"tighten (a, b)": [], "tighten b": []}
         for _ in range(args.rounds):
             for key, run in (("tighten (a, b)", lambda: vt.tighten(S, (a, b))), ("tighten b", lambda: vt.tighten(S, b))):
