@@ -183,23 +183,39 @@ def arc_centers(S, r: float, *, tolerance: float | None = None) -> ArcCenters:
     return exact_centers(S, r)[0]
 
 
-def exact_centers(S, r: float, precision: float | None = None):
+def exact_centers(S, r: float, precision: float | None = None, r_concave: float | None = None):
     """The exact arc centres of both sides from S's exact offsets, and those offsets (side +1, side −1).
 
     S must be valid (it is oriented here). Every centre is a corner of ``S↓r`` or of ``(S^c)↓r``
     (`vectortighten.offsets`), found from S's edges alone; each is given the two features of S nearest
-    to it (at distance r to rounding). ``precision``: as in `offsets.exact_offsets`.
+    to it (at distance r to rounding). ``precision``: as in `offsets.exact_offsets`. ``r_concave``: the
+    radius of side −1 when it differs from r (two radii: side +1 at r, side −1 at ``r_concave``).
     """
     from .morphology import _orient
     from .offsets import exact_offsets
 
     S = _orient(S)
-    E = exact_offsets(S, r, 1, precision=precision)
-    G = exact_offsets(S, r, -1, precision=precision)
+    rb = r if r_concave is None else r_concave
+    if r == 0 or rb == 0:
+        # Two radii, one of them 0: that side's "shrink" is S itself (its own closure), its corners S's
+        # convex (side +1) or reflex (−1) vertices (`_zero_radius`).
+        from ._zero_radius import zero_offsets
+        from .offsets import precision_of
+
+        prec = precision_of(S) if precision is None else precision
+        E = zero_offsets(S, 1, prec) if r == 0 else exact_offsets(S, r, 1, precision=precision)
+        G = zero_offsets(S, -1, prec) if rb == 0 else exact_offsets(S, rb, -1, precision=precision)
+    else:
+        E = exact_offsets(S, r, 1, precision=precision)
+        G = exact_offsets(S, rb, -1, precision=precision)
     xy = np.concatenate([E.corners, G.corners])
     side = np.concatenate([np.ones(len(E.corners), np.int8), -np.ones(len(G.corners), np.int8)])
     a, b, nxt = boundary_edges(S)
-    features = _nearest_features(xy, a, b, nxt, r)
+    if r_concave is None:
+        features = _nearest_features(xy, a, b, nxt, r)
+    else:
+        features = np.concatenate([_nearest_features(E.corners, a, b, nxt, r),
+                                   _nearest_features(G.corners, a, b, nxt, rb)]).reshape(-1, 2)
     C = ArcCenters(xy=xy, side=side, features=features, exact=np.ones(len(xy), dtype=bool),
                    source=np.full((len(xy), 2), np.nan), edge_start=a, edge_end=b, r=r)
     return C, E, G

@@ -37,11 +37,12 @@ from shapely.geometry import MultiLineString, MultiPolygon, Polygon
 from . import _convex, _fast
 from . import morphology as _m
 from ._pieces import piece_distance, piece_distances
-from ._proximity import EdgeIndex, PointIndex
+from ._proximity import EdgeIndex, PointIndex, point_segment_distance
 from ._guard import guarded_tighten
 from ._validation import check_output_size, check_radius, check_resolution, check_shape, check_tolerance, \
     quad_segs_for
 from .centers import ArcCenters, boundary_edges, exact_centers, missing_lines, snap_onto, snap_window
+from ._zero_radius import zero_entries
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
@@ -95,13 +96,22 @@ class _Frame:
 # Context: everything about S and r that the loops are tightened against
 # ---------------------------------------------------------------------------------------------------------
 class _Context:
-    def __init__(self, S: Polygon | MultiPolygon, r: float, tolerance: float, precision: float | None = None):
+    def __init__(self, S: Polygon | MultiPolygon, r: float, tolerance: float, precision: float | None = None,
+                 radii: tuple[float, float] | None = None):
         self.S = S
         self.r = r
+        # Two radii (a, b) (`two_radii`): the core disks (side +1, the centres' region S↓a) have radius a,
+        # the anticore disks (side −1, (S^c)↓b) radius b; r is then the larger, the scale of every
+        # tolerance. With one radius a = b = r, and every expression below is the one-radius one.
+        self.ra, self.rb = (r, r) if radii is None else (float(radii[0]), float(radii[1]))
+        self.two = self.ra != self.rb
+        # A radius 0 on one side (`_zero_radius`): its disks are S's own vertices, its region S (side +1)
+        # or S's complement (−1), which the loop may not enter; ``zero`` is that side, else 0.
+        self.zero = 0 if min(self.ra, self.rb) > 0 else (1 if self.ra == 0 else -1)
         # Two precisions: the shrink and grow whose vertices give the exact centres and against which the
         # exact loops are checked are sampled finely (EXACT_CHORD_R·r); the core, fillet and thickened
         # mortar that only guide the search for the homotopy class coarsely (a tenth of the thickening).
-        self.delta = THICKEN_R * r
+        self.delta = THICKEN_R * ((min(self.ra, self.rb) or max(self.ra, self.rb)) if self.two else r)
         self.q_exact = quad_segs_for(r, EXACT_CHORD_R * r)
         self.sag = r * (1.0 - math.cos(math.pi / (4 * self.q_exact)))
         self.q = quad_segs_for(r, DOMAIN_CHORD_R * r)
@@ -113,7 +123,8 @@ class _Context:
         # their pieces (arcs by chords within OBSTACLE_SAG_R·r), inside tests S's exact clearance. GEOS's
         # buffers E and G only guide the search for each loop's homotopy class (the free space).
         self.centers: ArcCenters
-        self.centers, self.xE, self.xG = exact_centers(S, r, precision)
+        self.centers, self.xE, self.xG = exact_centers(S, self.ra, precision,
+                                                       r_concave=self.rb if self.two else None)
         self.precision = self.xE.precision
         self.pen_center = max(1e-10 * r, 4.0 * self.precision)
         obstacle_angle = 2.0 * math.sqrt(2.0 * OBSTACLE_SAG_R)
@@ -124,8 +135,13 @@ class _Context:
         self._EG = None                       # GEOS's shrink and grow, built on first use (`E`, `G`)
         self.cxy, self.cside = _distinct_centers(self.centers.xy, self.centers.side.astype(np.int64), r)
         self._index_centres()
+        self._s_edges = None
+        if self.zero:
+            self._index_zero_vertices()
         edges, kinds, owners, self.opieces = [], [], [], []
         for kind, X in ((1, self.xE), (-1, self.xG)):
+            if X.r == 0:
+                continue          # a radius 0: no distance obstacle (`_zero_radius.zero_entries` instead)
             xy, start = X.polyline_points(obstacle_angle)  # the straight pieces first, then the arcs
             if len(start) > 1:
                 # The chords of every polyline: from each point that is not its polyline's last.
@@ -135,7 +151,7 @@ class _Context:
                 kinds.append(np.full(len(owner), kind, dtype=np.int8))
                 owners.append(owner + len(self.opieces))
             self.opieces += [(kind, ("seg", (p, q))) for p, q in X.seg]
-            self.opieces += [(kind, ("arc", (c, r, a0, sw))) for c, a0, sw in
+            self.opieces += [(kind, ("arc", (c, X.r, a0, sw))) for c, a0, sw in
                              zip(X.arc_center, X.arc_start, X.arc_sweep)]
         self.oedges = np.concatenate(edges) if edges else np.zeros((0, 2, 2))
         self.okind = np.concatenate(kinds) if kinds else np.zeros(0, dtype=np.int8)
@@ -165,19 +181,26 @@ class _Context:
     def _guide_offsets(self):
         if self._EG is None:
             # S's exact shrink and grow sampled (`morphology._sampled`), where they can be built.
-            E = _m._sampled(self.S, self.r, self.q_exact, "shrink", self.xE)
-            G = _m._sampled(self.S, self.r, self.q_exact, "grow", self.xG)
+            E = _m._sampled(self.S, self.ra, self.q_exact, "shrink", self.xE) if self.ra > 0 else self.S
+            G = _m._sampled(self.S, self.rb, self.q_exact, "grow", self.xG) if self.rb > 0 else self.S
             if E is not None and G is not None:
                 self._EG = (_m._orient(E), _m._orient(G))
                 return self._EG
-            E, G = (_m._orient(P) for P in _m._offsets(self.S, self.r, self.q_exact))
+            if self.zero:
+                E = _m._orient(self.S if self.ra == 0 else _m._offsets(self.S, self.ra, self.q_exact)[0])
+                G = _m._orient(self.S if self.rb == 0 else _m._offsets(self.S, self.rb, self.q_exact)[1])
+            elif self.two:
+                E, G = _m._orient(_m._offsets(self.S, self.ra, self.q_exact)[0]), \
+                    _m._orient(_m._offsets(self.S, self.rb, self.q_exact)[1])
+            else:
+                E, G = (_m._orient(P) for P in _m._offsets(self.S, self.r, self.q_exact))
             # Every convex vertex of GEOS's shrink (reflex vertex of its grow) stands for a corner of the
             # exact offsets, off by up to GEOS's simplification (about r/100, more beside near-tangent
             # necks): each is moved onto the nearest exact corner within `centers.snap_window`
             # (GUIDE_MISSING_R·r at least).
-            window = snap_window(self.S, self.r, self.q_exact)
-            self._EG = (snap_onto(E, self.centers.xy[self.centers.side == 1], 1, window),
-                        snap_onto(G, self.centers.xy[self.centers.side == -1], -1, window))
+            window_a, window_b = (snap_window(self.S, x, self.q_exact) for x in (self.ra, self.rb))
+            self._EG = (snap_onto(E, self.centers.xy[self.centers.side == 1], 1, window_a),
+                        snap_onto(G, self.centers.xy[self.centers.side == -1], -1, window_b))
         return self._EG
 
     # The core and fillet here only guide the search for each loop's homotopy class: the free space is
@@ -187,11 +210,13 @@ class _Context:
     # (the shrink of the grow drops bumps of it, and then misses S by that much): the overlays with S stay.
     @property
     def R(self):
+        if self._R is None and self.ra == 0:
+            self._R = _m._orient(self.S)      # radius 0: the core is S
         if self._R is None:
-            grown = _m._grow_raw(self.E, self.r, self.q) if not self.E.is_empty else Polygon()
+            grown = _m._grow_raw(self.E, self.ra, self.q) if not self.E.is_empty else Polygon()
             extra = self._missing(self.xE, self.E)
             if extra is not None:
-                grown = shapely.union(grown, extra.buffer(self.r, quad_segs=self.q))
+                grown = shapely.union(grown, extra.buffer(self.ra, quad_segs=self.q))
             # The exact pieces GEOS lost may reach past GEOS's fillet by GEOS's own error: the guide core
             # stays inside the guide fillet, so that the free space is a thickened mortar.
             self._R = _m._orient(_m._polygonal(shapely.intersection(shapely.intersection(grown, self.S), self.F)))
@@ -199,17 +224,21 @@ class _Context:
 
     @property
     def F(self):
+        if self._F is None and self.rb == 0:
+            self._F = _m._orient(self.S)      # radius 0: the fillet is S
         if self._F is None:
-            F = shapely.union(_m._shrink_raw(self.G, self.r, self.q), self.S)
+            F = shapely.union(_m._shrink_raw(self.G, self.rb, self.q), self.S)
             extra = self._missing(self.xG, None)
             if extra is not None:
-                F = shapely.difference(F, shapely.difference(extra.buffer(self.r, quad_segs=self.q), self.S))
+                F = shapely.difference(F, shapely.difference(extra.buffer(self.rb, quad_segs=self.q), self.S))
             self._F = _m._orient(_m._polygonal(F))
         return self._F
 
     def _missing(self, X, P):
         """The exact offset pieces of one side that GEOS's buffer lacks (`centers.missing_lines`)."""
-        return missing_lines(X, self.G if P is None else P, self.r, GUIDE_MISSING_R, math.pi / (2 * self.q))
+        if X.r == 0:
+            return None
+        return missing_lines(X, self.G if P is None else P, X.r, GUIDE_MISSING_R, math.pi / (2 * self.q))
 
     # -- free space ----------------------------------------------------------------------------------------
     def _build_domain(self):
@@ -249,13 +278,17 @@ class _Context:
         keys, core = _point_keys(T.xy), self._core_keys
         at = np.minimum(np.searchsorted(core, keys), max(len(core) - 1, 0))
         is_core = (core[at] == keys) if len(core) else np.zeros(len(keys), dtype=bool)
-        want = self.r - self.delta
-        slack = 0.5 * self.delta + 4.0 * self.sag_dom
         for side, mask in ((1, is_core), (-1, ~is_core)):
             kd, ids = self._kd[side]
             if kd is None or not mask.any():
                 continue
+            rad = self.ra if side > 0 else self.rb        # r itself with one radius
+            want = rad - self.delta
+            slack = 0.5 * self.delta + 4.0 * (rad * (1.0 - math.cos(math.pi / (4 * self.q))))
             d, j = kd.query(T.xy[mask])
+            if rad == 0:
+                # A radius 0: the vertex is S's own, mitred by δ (at most 10δ by the mitre limit).
+                want, slack = 0.0, 12.0 * self.delta
             ok = np.abs(d - want) <= slack
             out[np.flatnonzero(mask)[ok]] = ids[j[ok]]
         return out
@@ -265,13 +298,14 @@ class _Context:
         """Whether the segment between centres ``c1`` and ``c2`` lies in the shrink (or grow) — it clears
         S's boundary by r — and ``point`` comes nearer than r to it."""
         seg = shapely.linestrings(self.cxy[[c1, c2]])
-        if shapely.distance(seg, point) >= self.r - self.pen_center:
+        rad = self.radius_of(int(self.cside[c1]))
+        if shapely.distance(seg, point) >= rad - self.pen_center:
             return False
         x0, y0, x1, y1 = self.S.bounds
         tiny = ZERO_SCALE * max(x1 - x0, y1 - y0, self.r)
         # A nearest-neighbour search in the R-tree of S's edges, bounded by the distance: it stops at the
         # first edge found, whatever the density of edges around the segment.
-        hit = self._s_tree.query_nearest(seg, max_distance=self.r * (1 - 1e-9) - tiny, all_matches=False)
+        hit = self._s_tree.query_nearest(seg, max_distance=rad * (1 - 1e-9) - tiny, all_matches=False)
         return len(hit) == 0
 
     def clearance(self, xy: np.ndarray) -> np.ndarray:
@@ -283,9 +317,40 @@ class _Context:
         """Whether each point lies in the closed shrink of S (+1), of its complement (−1), or neither (0)."""
         if len(xy) == 0:
             return np.zeros(0, dtype=np.int8)
-        clear = self.clearance(xy) >= self.r - self.precision
         inside = shapely.contains_xy(self.S, xy[:, 0], xy[:, 1])
+        if self.zero:
+            # A radius 0: strictly inside its region, beyond the rounding (the loop runs along S's edges).
+            need = np.where(inside, self.ra, self.rb)
+            clear = self.clearance(xy) >= np.where(need == 0, self.pen_center, need - self.precision)
+        elif self.two:
+            clear = self.clearance(xy) >= np.where(inside, self.ra, self.rb) - self.precision
+        else:
+            clear = self.clearance(xy) >= self.r - self.precision
         return np.where(clear, np.where(inside, 1, -1), 0).astype(np.int8)
+
+    def _index_zero_vertices(self) -> None:
+        """For a radius 0: each vertex of S (numbered as `centers.boundary_edges`) and its centre, if any."""
+        a, _, _ = boundary_edges(self.S)
+        self._zero_vertex = {}
+        for j, key in enumerate(map(tuple, a.tolist())):
+            self._zero_vertex.setdefault(key, j)
+        self.zero_vertex_centre = np.full(len(a), -1, dtype=np.int64)
+        for ci in np.flatnonzero(self.cside == self.zero).tolist():
+            j = self._zero_vertex.get(tuple(self.cxy[ci].tolist()), -1)
+            if j >= 0:
+                self.zero_vertex_centre[j] = ci
+
+    def zero_vertex_at(self, x) -> int:
+        """The vertex of S at exactly ``x`` (its number), or −1."""
+        return self._zero_vertex.get((float(x[0]), float(x[1])), -1)
+
+    def radius_of(self, side):
+        """The disks' radius of a side (+1: a, −1: b), or of each side in an array; r with one radius."""
+        if not self.two:
+            return self.r
+        if np.ndim(side) == 0:
+            return self.ra if side > 0 else self.rb
+        return np.where(np.asarray(side) > 0, self.ra, self.rb)
 
     def _add_centres(self, xy: np.ndarray, side: int) -> None:
         """Append exact centres of one side, and rebuild what is indexed on the centres."""
@@ -301,6 +366,13 @@ class _Context:
                         np.flatnonzero(self.cside == s)) for s in (1, -1)}
         self.ckd = cKDTree(self.cxy) if len(self.cxy) else None
         self.cindex = PointIndex(self.cxy)
+
+    def _s_index(self):
+        """S's edges (start, end, successor) and their proximity index, built on first use."""
+        if self._s_edges is None:
+            a, b, nxt = boundary_edges(self.S)
+            self._s_edges = (a, b, nxt, EdgeIndex(a, b, self.r))
+        return self._s_edges
 
     def nearest_centers(self, xy: np.ndarray, radius: float):
         """Pairs (point index, centre index) with the centre within ``radius`` of the point."""
@@ -351,17 +423,31 @@ class _DiskLoop:
     phi: np.ndarray          # direction of the tangent leaving each disk
     length: np.ndarray       # tangent lengths
     sweep: np.ndarray        # signed arc sweep at each disk
-    r: float
+    r: float | np.ndarray    # the radius, or (two radii) each disk's: a on side +1, b on side −1
     converged: bool = True
 
     @property
     def n(self) -> int:
         return len(self.cid)
 
+    @property
+    def rho(self) -> np.ndarray:
+        """Each disk's radius (n,)."""
+        return np.broadcast_to(np.asarray(self.r, dtype=float), (self.n,))
+
+    def _r(self, i):
+        """The radius of disk ``i`` (the radius itself with one)."""
+        return self.r if np.ndim(self.r) == 0 else float(self.r[i])
+
     def tangent_points(self):
         nrm = np.column_stack([-np.sin(self.phi), np.cos(self.phi)])
-        P = self.c - self.side[:, None] * self.r * nrm
-        Q = np.roll(self.c, -1, axis=0) - np.roll(self.side, -1)[:, None] * self.r * nrm
+        if np.ndim(self.r) == 0:
+            P = self.c - self.side[:, None] * self.r * nrm
+            Q = np.roll(self.c, -1, axis=0) - np.roll(self.side, -1)[:, None] * self.r * nrm
+        else:
+            sr = (self.side * self.r)[:, None]
+            P = self.c - sr * nrm
+            Q = np.roll(self.c, -1, axis=0) - np.roll(sr, -1, axis=0) * nrm
         return P, Q
 
     def arc_start(self) -> np.ndarray:
@@ -370,26 +456,33 @@ class _DiskLoop:
     def pieces(self):
         """``[(kind, geometry, piece_length)]``: arc i is piece 2i, the tangent leaving disk i piece 2i+1."""
         if self.n == 1:
-            return [("arc", (self.c[0], self.r, 0.0, self.sweep[0]), self.r * abs(self.sweep[0]))]
+            r0 = self._r(0)
+            return [("arc", (self.c[0], r0, 0.0, self.sweep[0]), r0 * abs(self.sweep[0]))]
         P, Q = self.tangent_points()
         a0 = self.arc_start()
         out = []
+        one = np.ndim(self.r) == 0
         for i in range(self.n):
-            out.append(("arc", (self.c[i], self.r, a0[i], self.sweep[i]), self.r * abs(self.sweep[i])))
+            ri = self.r if one else float(self.r[i])
+            out.append(("arc", (self.c[i], ri, a0[i], self.sweep[i]), ri * abs(self.sweep[i])))
             out.append(("seg", (P[i], Q[i]), self.length[i]))
         return out
 
     def to_loop(self, frame: _Frame | None = None) -> Loop:
         """Build the exact loop; with ``frame``, in world coordinates (as ``frame.loop_to_world``)."""
         if self.n == 1:
-            loop = Loop.circle(self.c[0], self.r, ccw=self.sweep[0] > 0)
+            loop = Loop.circle(self.c[0], self._r(0), ccw=self.sweep[0] > 0)
             return loop if frame is None else frame.loop_to_world(loop)
         affine = None if frame is None else (frame.scale, frame.ox, frame.oy)
+        if np.ndim(self.r) != 0:
+            return _two_radii_loop(self, frame)
         return Loop._from_disk_arrays(self.c, self.side.astype(float), self.r, self.phi, self.length,
                                       self.sweep, affine)
 
     @property
     def perimeter(self) -> float:
+        if np.ndim(self.r) != 0:
+            return math.fsum(self.length) + math.fsum(self.rho * np.abs(self.sweep))
         return math.fsum(self.length) + self.r * math.fsum(np.abs(self.sweep))
 
     def polyline_from(self, piece: int, point: np.ndarray, tol: float) -> np.ndarray:
@@ -400,6 +493,8 @@ class _DiskLoop:
 
         def arc_pts(geom, frac0, frac1):
             c, r, a0, sw = geom
+            if r == 0:            # a radius 0 (two radii): the corner itself
+                return np.array([c, c], dtype=float)
             span = sw * (frac1 - frac0)
             n = max(1, math.ceil(abs(span) / (2 * math.acos(max(-1.0, 1 - tol / r)))))
             th = a0 + sw * frac0 + span * np.arange(n + 1) / n
@@ -411,7 +506,7 @@ class _DiskLoop:
                 d = q - p
                 L2 = d @ d
                 return 0.0 if L2 == 0 else float(np.clip(((x - p) @ d) / L2, 0, 1))
-            return _along((kind, geom, 0.0), x) / (geom[1] * abs(geom[3])) if geom[3] != 0 else 0.0
+            return _along((kind, geom, 0.0), x) / (geom[1] * abs(geom[3])) if geom[3] != 0 and geom[1] > 0 else 0.0
 
         kind, geom, _ = pcs[piece]
         f = frac_of(kind, geom, point)
@@ -428,6 +523,14 @@ class _DiskLoop:
         if kind == "arc":
             out.append(arc_pts(geom, 0.0, f)[1:-1])
         return np.concatenate(out)
+
+
+def _two_radii_loop(L: _DiskLoop, frame: _Frame | None) -> Loop:
+    """The exact loop of a disk loop with a radius per disk (`two_radii._loop_from_disks`)."""
+    from .two_radii import _loop_from_disks
+
+    return _loop_from_disks(L.c, L.side.astype(float), L.rho, L.phi, L.length, L.sweep,
+                            frame if frame is not None else _Frame(0.0, 0.0, 1.0))
 
 
 def _dedupe(cid, side, ref):
@@ -508,14 +611,23 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
     if len(seg_ids):
         sp, sq = P[seg_ids], Q[seg_ids]
         mid = 0.5 * (sp + sq)
-        si, _ = ctx.cindex.near_segments(sp, sq, thr_c)
+        si, cj = ctx.cindex.near_segments(sp, sq, thr_c)
+        if ctx.two:       # the query took the larger radius: each centre by its own side's
+            si = si[point_segment_distance(ctx.cxy[cj], sp[si], sq[si])
+                    <= ctx.radius_of(ctx.cside[cj]) - ctx.pen_center]
         for i in np.unique(si):
             flag(2 * int(seg_ids[i]) + 1, mid[i])
         si, ei = ctx.oindex.near_segments(sp, sq, thr_c + ctx.osag)
         seg_arrays = (np.zeros(len(sp), dtype=bool), np.column_stack([sp, sq, np.zeros(len(sp))]))
         for i, e, _ in _exact_entries(ctx, lambda i: ("seg", (sp[i], sq[i])), si, ei, thr_c, seg_arrays):
             flag(2 * int(seg_ids[i]) + 1, mid[i], (e,))
-        for i in np.flatnonzero(ctx.in_regions(mid) != 0):
+        region = ctx.in_regions(mid)
+        if ctx.zero:      # a radius 0: entries into its region are judged below (`_zero_radius`)
+            region[region == ctx.zero] = 0
+            zero_hits = {2 * int(seg_ids[i]) + 1: (ci, ctx.zero, 0)
+                         for i, ci, depth in zero_entries(ctx, sp, sq, ctx.zero)
+                         if ci >= 0 and depth > ctx.pen_center}
+        for i in np.flatnonzero(region != 0):
             flag(2 * int(seg_ids[i]) + 1, mid[i])
     # Arcs: points along each, tested against the other centres and the obstacle edges.
     if len(arcs):
@@ -524,9 +636,12 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
         first = np.repeat(np.cumsum(m - 1) - (m - 1), m - 1)
         frac = (np.arange(len(owner)) - first + 1) / np.repeat(m, m - 1)
         th = a0[owner] + L.sweep[owner] * frac
-        pts = np.column_stack([L.c[owner, 0] + r * np.cos(th), L.c[owner, 1] + r * np.sin(th)])
+        ro = r if not ctx.two else L.rho[owner]
+        pts = np.column_stack([L.c[owner, 0] + ro * np.cos(th), L.c[owner, 1] + ro * np.sin(th)])
         pi, ci = ctx.cindex.near_points(pts, thr_c)
         keep = ci != L.cid[owner[pi]]
+        if ctx.two:
+            keep &= np.hypot(*(pts[pi] - ctx.cxy[ci]).T) <= ctx.radius_of(ctx.cside[ci]) - ctx.pen_center
         for k in np.unique(pi[keep]):
             flag(2 * int(owner[k]), pts[k])
         # The arc lies within its chords' sag of the chords through its samples and ends: the query on
@@ -538,14 +653,16 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
         t0, t1 = k_c / np.repeat(m, m), (k_c + 1) / np.repeat(m, m)
         th0 = a0[own_c] + L.sweep[own_c] * t0
         th1 = a0[own_c] + L.sweep[own_c] * t1
-        cp = np.column_stack([L.c[own_c, 0] + r * np.cos(th0), L.c[own_c, 1] + r * np.sin(th0)])
-        cq = np.column_stack([L.c[own_c, 0] + r * np.cos(th1), L.c[own_c, 1] + r * np.sin(th1)])
+        rc = r if not ctx.two else L.rho[own_c]
+        cp = np.column_stack([L.c[own_c, 0] + rc * np.cos(th0), L.c[own_c, 1] + rc * np.sin(th0)])
+        cq = np.column_stack([L.c[own_c, 0] + rc * np.cos(th1), L.c[own_c, 1] + rc * np.sin(th1)])
         step = float((np.abs(L.sweep[arcs]) / m).max(initial=0.0))
         reach = thr_c + ctx.osag + r * (1.0 - math.cos(0.5 * step)) + 1e-12 * r
         pi, ei = ctx.oindex.near_segments(cp, cq, reach)
-        arc_arrays = (np.ones(n, dtype=bool), np.column_stack([L.c, np.full(n, r), a0, L.sweep]))
-        for k, e, x in _exact_entries(ctx, lambda i: ("arc", (L.c[i], r, a0[i], L.sweep[i])), own_c[pi], ei,
-                                      thr_c, arc_arrays):
+        arc_arrays = (np.ones(n, dtype=bool), np.column_stack([L.c, np.full(n, r) if not ctx.two else L.rho, a0,
+                                                                L.sweep]))
+        for k, e, x in _exact_entries(ctx, lambda i: ("arc", (L.c[i], L._r(i), a0[i], L.sweep[i])), own_c[pi],
+                                      ei, thr_c, arc_arrays):
             flag(2 * int(k), x, (e,))
     found: dict[int, tuple | None] = {}
     for piece in sorted(bad):
@@ -562,6 +679,8 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
         if kind == "seg":
             d = Q[disk] - P[disk]
             side = 1 if (d[0] * (cxy[1] - P[disk][1]) - d[1] * (cxy[0] - P[disk][0])) > 0 else -1
+            if ctx.two:   # two radii: a disk is wrapped from its own side only (its radius is that side's)
+                side = int(ctx.cside[ci])
             found[piece] = (ci, side, 0)
         else:
             c = L.c[disk]
@@ -569,10 +688,16 @@ def _violations(ctx: _Context, L: _DiskLoop, cache: dict | None = None):
             v = where - c
             tangent = s * np.array([-v[1], v[0]])
             side = 1 if (tangent[0] * (cxy[1] - where[1]) - tangent[1] * (cxy[0] - where[0])) > 0 else -1
+            if ctx.two:
+                side = int(ctx.cside[ci])
             th = math.atan2(v[1], v[0])
             frac = ((th - a0[disk]) % _TWO_PI) / abs(L.sweep[disk]) if s > 0 else \
                 ((a0[disk] - th) % _TWO_PI) / abs(L.sweep[disk])
             found[piece] = (ci, side, -1 if frac < 0.5 else 1)
+    if ctx.zero and len(seg_ids):
+        for piece, hit in zero_hits.items():
+            if found.get(piece) is None:
+                found[piece] = hit
     if cache is not None and len(ctx.cxy) != n_centres:
         cache.clear()                     # centres were added on the way: outcomes before may be stale
     elif cache is not None:
@@ -602,6 +727,10 @@ def _exact_entries(ctx: _Context, piece_of, li: np.ndarray, ei: np.ndarray, thr:
     first = np.ones(len(li), dtype=bool)
     first[1:] = (li[1:] != li[:-1]) | (pj[1:] != pj[:-1])
     li, pj, ei = li[first], pj[first], ei[first]
+    if ctx.two:
+        # Two radii: ``thr`` is the larger radius less the allowance; each obstacle piece takes its own
+        # side's radius (a for the shrink S↓a, b for (S^c)↓b) less the same allowance.
+        return _exact_entries_two(ctx, piece_of, li, pj, ei, ctx.radius_of(ctx.okind[ei]) - (ctx.r - thr), arrays)
     if arrays is not None:
         # Most pairs are a loop piece resting on the obstacle (distance r, above thr by pen_center): the
         # vectorised distances set aside those clearly at or beyond thr, the rest are decided exactly.
@@ -615,6 +744,24 @@ def _exact_entries(ctx: _Context, piece_of, li: np.ndarray, ei: np.ndarray, thr:
     for i, j, e in zip(li.tolist(), pj.tolist(), ei.tolist()):
         d, x, _ = piece_distance(piece_of(i), ctx.opieces[j][1])
         if d < thr:
+            out.append((i, e, x))
+    return out
+
+
+def _exact_entries_two(ctx: _Context, piece_of, li, pj, ei, thr: np.ndarray, arrays):
+    """`_exact_entries` with a threshold per (loop piece, obstacle piece) pair (two radii)."""
+    out = []
+    if arrays is not None:
+        is_arc, params = arrays
+        o_arc, o_params = _obstacle_arrays(ctx)
+        d = piece_distances(is_arc[li], params[li], o_arc[pj], o_params[pj])
+        size = 1.0 + ctx.r + max(float(np.abs(params[:, :2]).max()), float(np.abs(o_params[:, :2]).max()))
+        margin = max(0.1 * ctx.pen_center, 64 * np.finfo(float).eps * size)
+        near = ~(d >= thr + margin)
+        li, pj, ei, thr = li[near], pj[near], ei[near], thr[near]
+    for i, j, e, t in zip(li.tolist(), pj.tolist(), ei.tolist(), thr.tolist()):
+        d, x, _ = piece_distance(piece_of(i), ctx.opieces[j][1])
+        if d < t:
             out.append((i, e, x))
     return out
 
@@ -647,7 +794,8 @@ def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
     """
     if ctx.ckd is None:
         return None
-    thr = ctx.r - ctx.pen_center
+    # With two radii each centre is entered by its own side's radius: the query reaches the larger.
+    thr = (max(ctx.ra, ctx.rb) if ctx.two else ctx.r) - ctx.pen_center
     if shapely.get_type_id(geom) == 0:
         xy = shapely.get_coordinates(geom)
         hit = np.asarray(ctx.ckd.query_ball_point(xy[0], thr), dtype=np.int64)
@@ -657,7 +805,11 @@ def _candidate(ctx: _Context, geom, own: set[int], edges) -> int | None:
     entered = np.array(sorted(c for c in hit.tolist() if c not in own), dtype=np.int64)
     if len(entered):
         d = shapely.distance(geom, shapely.points(ctx.cxy[entered]))
-        if d.min() < thr:
+        if ctx.two:       # each centre by its own side's radius: the deepest entered
+            depth = ctx.radius_of(ctx.cside[entered]) - d
+            if depth.max() > ctx.pen_center:
+                return int(entered[np.argmax(depth)])
+        elif d.min() < thr:
             return int(entered[np.argmin(d)])
     if edges:
         if shapely.get_type_id(geom) == 1:
@@ -694,13 +846,19 @@ def _chain_length(ctx: _Context, cids, sides) -> float:
     s = np.asarray(sides, dtype=float)
     D = c[1:] - c[:-1]
     d = np.hypot(D[:, 0], D[:, 1])
-    k = (s[1:] - s[:-1]) * ctx.r
+    if ctx.two:       # signed radii: each disk its own side's
+        rho = s * ctx.radius_of(ctx.cside[np.asarray(cids)])
+        k = rho[1:] - rho[:-1]
+    else:
+        k = (s[1:] - s[:-1]) * ctx.r
     if (d * d < k * k * (1 - 1e-12)).any() or (d == 0).any():
         return math.inf
     L = np.sqrt(np.maximum(d * d - k * k, 0.0))
     phi = np.arctan2(D[:, 1], D[:, 0]) - np.arctan2(k, L)
     turn = np.diff(phi)
     sw = np.where(s[1:-1] > 0, np.mod(turn, _TWO_PI), -np.mod(-turn, _TWO_PI))
+    if ctx.two:
+        return float(L.sum() + (np.abs(rho[1:-1]) * np.abs(sw)).sum())
     return float(L.sum() + ctx.r * np.abs(sw).sum())
 
 
@@ -728,28 +886,33 @@ def _entered_chain(ctx: _Context, a: int, sa: int, b: int, sb: int, taken: set[i
     finish's next round.
     """
     r, pen = ctx.r, ctx.pen_center
+    # Two radii: each disk at its own side's radius (signed radii ρ = s·radius, DESIGN §3.1). A radius 0 is
+    # entered by crossing S's boundary, not by a distance (`_zero_radius`): left to the rounds.
+    reach = max(ctx.ra, ctx.rb) if ctx.two else r
 
     def chain(i: int, si: int, j: int, sj: int, depth_left: int) -> list[tuple[int, int]]:
         ci, cj = ctx.cxy[i], ctx.cxy[j]
         D = cj - ci
         d = math.hypot(D[0], D[1])
-        k = (sj - si) * r
+        rho_i = si * ctx.radius_of(si) if ctx.two else si * r
+        k = sj * ctx.radius_of(sj) - rho_i if ctx.two else (sj - si) * r
         if d <= abs(k) or depth_left == 0:
             return []
         L = math.sqrt(d * d - k * k)
         phi = math.atan2(D[1], D[0]) - math.atan2(k, L)
         u = np.array([math.cos(phi), math.sin(phi)])
         nrm = np.array([-u[1], u[0]])
-        P = ci - si * r * nrm
-        near = ctx.ckd.query_ball_point(P + 0.5 * L * u, 0.5 * L + r)
+        P = ci - rho_i * nrm
+        near = ctx.ckd.query_ball_point(P + 0.5 * L * u, 0.5 * L + reach)
         ids = np.array([c for c in near if c not in taken], dtype=np.int64)
         if len(ids) == 0:
             return []
         w = ctx.cxy[ids] - P
         t = w @ u
         s_ids = ctx.cside[ids]
-        depth = r - s_ids * (w @ nrm)
-        ok = (depth > pen) & (depth < 2.0 * r - pen) & (t > 0.0) & (t < L)
+        rad = ctx.radius_of(s_ids) if ctx.two else r
+        depth = rad - s_ids * (w @ nrm)
+        ok = (depth > pen) & (depth < 2.0 * rad - pen) & (t > 0.0) & (t < L)
         if not ok.any():
             return []
         m = int(np.argmax(np.where(ok, depth, -np.inf)))
@@ -757,7 +920,7 @@ def _entered_chain(ctx: _Context, a: int, sa: int, b: int, sb: int, taken: set[i
         taken.add(c)
         return (chain(i, si, c, sc, depth_left - 1) + [(c, sc)] + chain(c, sc, j, sj, depth_left - 1))
 
-    if ctx.ckd is None:
+    if ctx.ckd is None or ctx.zero:
         return []
     return chain(a, sa, b, sb, 64)
 
@@ -780,6 +943,8 @@ def _finish_steps(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndar
         if n > most:
             break
         c = ctx.cxy[cid]
+        if ctx.two:       # each disk its centre's side's radius
+            r = ctx.radius_of(ctx.cside[cid])
         if n == 1:
             return _DiskLoop(cid, side, c, np.zeros(1), np.zeros(1), np.array([_TWO_PI * side[0]]), r)
         phi, length, ok = tangent_directions(c, side, r, ctx.precision)
@@ -888,7 +1053,8 @@ def _piece_arrays(loops: list[_DiskLoop]):
     lines, owner, index, start, stop, totals = [], [], [], [], [], []
     for li, L in enumerate(loops):
         n = L.n
-        arc_len = L.r * np.abs(L.sweep)
+        rr = L.r if np.ndim(L.r) == 0 else L.rho           # each disk's radius with two radii
+        arc_len = rr * np.abs(L.sweep)
         seg_len = L.length if n > 1 else np.zeros(1)
         lens = np.empty(2 * n)
         lens[0::2], lens[1::2] = arc_len, seg_len
@@ -902,7 +1068,8 @@ def _piece_arrays(loops: list[_DiskLoop]):
             first = np.repeat(np.cumsum(m) - m, m)
             f = (np.arange(len(ow)) - first) / np.repeat(m - 1, m)
             th = a0[arcs][ow] + L.sweep[arcs][ow] * f
-            pts = L.c[arcs][ow] + L.r * np.column_stack([np.cos(th), np.sin(th)])
+            ra = rr if np.ndim(rr) == 0 else rr[arcs][ow][:, None]
+            pts = L.c[arcs][ow] + ra * np.column_stack([np.cos(th), np.sin(th)])
             lines.append(shapely.linestrings(pts, indices=ow))
             owner.append(np.full(len(arcs), li))
             index.append(2 * arcs)
@@ -931,6 +1098,9 @@ def _contacts(ctx: _Context, loops: list[_DiskLoop]):
     """
     touch = TOUCH_SCALE
     r = ctx.r
+    # Between two places where a loop meets itself it turns by π: along it at least π times its smallest
+    # radius of curvature (the smaller of two radii).
+    r_turn = (min(ctx.ra, ctx.rb) or max(ctx.ra, ctx.rb)) if getattr(ctx, "two", False) else r
     arrays = _piece_arrays(loops)
     if arrays is None:
         return []
@@ -945,7 +1115,7 @@ def _contacts(ctx: _Context, loops: list[_DiskLoop]):
     # span from the first one's start to the last one's end (the exact test below is then always false).
     same = owner[ia] == owner[ib]
     far = np.maximum(stop[ia], stop[ib]) - np.minimum(start[ia], start[ib])          # widest separation
-    keep = ~same | (far >= 0.9 * math.pi * r)
+    keep = ~same | (far >= 0.9 * math.pi * r_turn)
     out = []
     used = set()
     pieces_cache = {}
@@ -966,7 +1136,7 @@ def _contacts(ctx: _Context, loops: list[_DiskLoop]):
             sb = start[b] + _along(Pb, y)
             gap = abs(sa - sb)
             gap = min(gap, totals[la] - gap)
-            if gap < 0.9 * math.pi * r:
+            if gap < 0.9 * math.pi * r_turn:
                 continue
         out.append((la, int(index[a]), x, lb, int(index[b]), y))
         used.update((la, lb))
@@ -1002,7 +1172,8 @@ def _reconnect(ctx: _Context, loops: list[_DiskLoop], contact) -> list[np.ndarra
     step = np.hypot(*np.diff(np.vstack([full, full[:1]]), axis=0).T)
     along = np.concatenate([[0.0], np.cumsum(step)[:-1]])
     total = along[-1] + step[-1]
-    away = np.minimum(along, total - along) >= 0.4 * math.pi * ctx.r
+    r_turn = (min(ctx.ra, ctx.rb) or max(ctx.ra, ctx.rb)) if ctx.two else ctx.r
+    away = np.minimum(along, total - along) >= 0.4 * math.pi * r_turn
     d = np.where(away, np.hypot(*(full - y).T), np.inf)
     k = int(np.argmin(d))
     first = np.concatenate([full[: k + 1], [y]])
@@ -1092,7 +1263,16 @@ def _exact_depths(ctx: _Context, L: _DiskLoop, limit: float = 0.0) -> tuple[floa
     where = ctx.in_regions(np.array(mids))
     for s in (1, -1):
         if (where == s).any():
-            depth[s] = r
+            depth[s] = ctx.radius_of(s)
+    if ctx.zero:
+        # A radius 0: how far a straight piece enters that side's region, by its boundary chain
+        # (`_zero_radius`); a piece lying inside it (its middle in the region) enters it wholly.
+        segs = [g for k, g in pieces if k == "seg"]
+        if segs:
+            P0, Q0 = (np.array([g[m] for g in segs]) for m in (0, 1))
+            deepest = max((d for _, _, d in zero_entries(ctx, P0, Q0, ctx.zero)), default=0.0)
+            depth[ctx.zero] = max(depth[ctx.zero], r if (where == ctx.zero).any() else 0.0,
+                                  deepest if deepest > limit else 0.0)
     if len(ctx.oedges) == 0:
         return depth[1], depth[-1]
     owner = np.array(owner, dtype=np.int64)
@@ -1132,13 +1312,15 @@ def _exact_depths(ctx: _Context, L: _DiskLoop, limit: float = 0.0) -> tuple[floa
         d = piece_distances(is_arc[li], params[li], o_arc[pj], o_params[pj])
         size = 1.0 + r + max(float(np.abs(params[:, :2]).max()), float(np.abs(o_params[:, :2]).max()))
         margin = 64 * np.finfo(float).eps * size                  # ≫ their rounding
-        keep = ~(r - d - allow[li] <= limit - margin)             # NaN: decide exactly
+        rad = r if not ctx.two else ctx.radius_of(np.array([ctx.opieces[j][0] for j in pj.tolist()]))
+        keep = ~(rad - d - allow[li] <= limit - margin)           # NaN: decide exactly
         li, pj = li[keep], pj[keep]
     for i, j in zip(li.tolist(), pj.tolist()):
         side, piece = ctx.opieces[j]
         d, _, _ = piece_distance(pieces[i], piece)
-        if r - d - allow[i] > max(depth[side], limit):
-            depth[side] = r - d - allow[i]
+        rad = r if not ctx.two else ctx.radius_of(side)
+        if rad - d - allow[i] > max(depth[side], limit):
+            depth[side] = rad - d - allow[i]
     return depth[1], depth[-1]
 
 
@@ -1509,11 +1691,10 @@ def tighten(S, r: float | tuple[float, float], *, init: str | Init = "core",
         The radius, > 0, in the units of S. Or two radii ``(r_convex, r_concave)`` = (a, b), each ≥ 0 and
         not both 0: the core is ``R_a(S)``, the fillet ``F_b(S)``, arcs turning left have radius a and
         arcs turning right radius b, and a radius 0 keeps those corners sharp (``(0, tool_radius)``: the
-        CNC inside-corner rule). ``(r, r)`` is r itself. Two different radii are computed where every
-        corner of S is isolated (its disk fits and meets nothing else) or S is a convex polygon, and
-        return a `two_radii.TwoRadiiTightening` (``T.r`` is then the larger radius, ``T.radii`` the
-        pair); elsewhere `two_radii.TwoRadiiNotSupportedError` is raised (the general engine has one
-        radius only).
+        CNC inside-corner rule). ``(r, r)`` is r itself. Two different radii return a
+        `two_radii.TwoRadiiTightening` (``T.r`` is then the larger radius, ``T.radii`` the pair);
+        ``init="mason"`` on a shape whose corners interact raises
+        `two_radii.TwoRadiiNotSupportedError` (see `vectortighten.two_radii`).
     init : {"core", "input", "mason"}
         The flow's initial condition: ``"core"`` starts from the core (the paper's implementation: thin
         parts and constrictions go), ``"input"`` from S itself (self-dual, §4.2: tight constrictions

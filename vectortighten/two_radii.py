@@ -6,16 +6,25 @@ left (about disks inside S), arcs of radius b that turn right (about disks outsi
 tangent to both. Either radius may be 0: ``a = 0`` keeps convex corners sharp (the "disk" is the vertex),
 ``b = 0`` keeps reflex corners sharp; ``(0, tool_radius)`` is the CNC rule for inside corners.
 
-What is supported (and what is not). Two radii are computed exactly on:
+Three paths, tried in this order:
 
 * shapes whose every corner is isolated (the polygon fast path, `vectortighten._fast`): each convex corner
   gets its radius-a disk, each reflex corner its radius-b disk, certified by exact distance tests against
   the shrink by a and the grow by b;
-* convex polygons with ``a > 0`` (the tightening is then the opening ``R_a(S)``, whatever b).
+* convex polygons with ``a > 0`` (the tightening is then the opening ``R_a(S)``, whatever b);
+* everything else (corners whose disks interact, gaps or thin parts the disks cannot pass, parts that
+  vanish or join) goes to the general engine (`vectortighten.engine`) with a radius per disk: the centres
+  and obstacles of side +1 are the corners and pieces of ``S↓a``, those of side −1 of ``(S^c)↓b``, the
+  free space lies between ``R_a`` and ``F_b``, tangents join disks of signed radii (DESIGN §3.1), every
+  violation test, contact and depth is measured at the radius of the side it concerns, and `verify` runs
+  the engine's exact tests on the result. A radius 0 there (`_zero_radius`): that side's disks are S's
+  own convex (a = 0) or reflex (b = 0) vertices, the guide core (fillet) is S, and a straight piece that
+  enters S's interior (a = 0) or leaves S (b = 0) — GEOS's exact DE-9IM relation — gets the farthest
+  corner of the boundary chain it cuts off as the disk to add; the depth of such an entry is what
+  `verify` bounds.
 
-A shape that leaves both (corners whose disks interact, gaps or thin parts the disks cannot pass, parts
-that vanish) needs the general engine with a radius per disk, which is not built yet: ``tighten`` raises
-`TwoRadiiNotSupportedError` there, never a silently wrong answer. A pair ``(r, r)`` is the one-radius
+Not supported on the general engine (`TwoRadiiNotSupportedError`, never a silently wrong answer):
+``init="mason"`` (Mason(S) for two radii is not defined here). A pair ``(r, r)`` is the one-radius
 tightening itself (the same code path, the same numbers).
 """
 
@@ -41,11 +50,10 @@ __all__ = ["TwoRadiiNotSupportedError", "TwoRadiiTightening", "is_pair", "parse_
 
 
 class TwoRadiiNotSupportedError(TighteningError, NotImplementedError):
-    """Two different radii on a shape the two-radii paths cannot certify.
+    """Two different radii where no two-radii path applies.
 
-    Two radii are computed exactly when every corner of S is isolated (its disk fits, tangent to both
-    edges, and meets nothing else) or when S is a convex polygon; elsewhere the general engine would need
-    a radius per disk, which it does not have yet. Use one radius, or simplify the shape.
+    Every pair is computed with ``init="core"`` or ``"input"``; ``init="mason"`` with two radii only
+    where every corner of S is isolated or S is convex. Use ``init="core"`` or ``"input"`` there.
     """
 
 
@@ -137,7 +145,7 @@ class TwoRadiiTightening(Tightening):
     """The exact tightening of a shape for two radii ``(r_convex, r_concave)`` = (a, b).
 
     A `Tightening` whose arcs turning left have radius a and those turning right radius b (a radius of
-    0: sharp corners there). ``r`` is the larger of the two (it sets the default ``tolerance``, 1e-5·r);
+    0: sharp corners there), from the fast, the convex or the general path (``_cache["_path"]``). ``r`` is the larger of the two (it sets the default ``tolerance``, 1e-5·r);
     ``radii`` is the pair, also as ``r_convex`` and ``r_concave``; ``core``, ``fillet`` and ``mortar``
     are ``R_a(S)``, ``F_b(S)`` and their difference.
 
@@ -165,7 +173,10 @@ class TwoRadiiTightening(Tightening):
         valid geometry, loops pairwise apart; (c) every arc turning left has radius a and every arc turning
         right radius b, every join is G1 except corners kept sharp by a radius 0 (left turns for a = 0,
         right turns for b = 0), and the loops are the ones the fast path's (or the convex path's) exact
-        tests, run again on S, certify.
+        tests, run again on S, certify; for the general engine, its exact tests at each side's radius:
+        the loops stay out of the open ``R_a`` and out of the complement of ``F_b`` (exact piece
+        distances to ``S↓a`` and ``(S^c)↓b``), every arc is centred on an exact corner of its side, and
+        no two loops touch.
         """
         return _verify(self)
 
@@ -221,8 +232,7 @@ def tighten_two_radii(S, radii, *, init="core", tolerance: float | None = None):
     InvalidRadiusError
         For a bad pair (see `parse_radii`) or a positive radius below what doubles resolve for S.
     TwoRadiiNotSupportedError
-        Where neither two-radii path certifies the result (corners whose disks interact, parts that
-        vanish or join): the general engine has one radius only.
+        For ``init="mason"`` where the general engine is needed (see the module notes).
 
     Examples
     --------
@@ -271,7 +281,7 @@ def tighten_two_radii(S, radii, *, init="core", tolerance: float | None = None):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             result = _tighten_pair(S, a, b, init, tol)
-            problems = _final_check(result)
+            problems = _final_check(result) if result._cache.get("_path") != "general" else _general_check(result)
     except (MemoryError, TighteningError):
         raise
     except Exception as exc:
@@ -313,10 +323,24 @@ def _final_check(T) -> list[str]:
     return problems
 
 
+def _general_check(T) -> list[str]:
+    """The final check of a result of the general engine, as `guarded_tighten` makes it for one radius:
+    ``R_a ⊆ T ⊆ F_b`` against the guide core and fillet the engine built, and every join tangent (both
+    radii are positive there)."""
+    from ._guard import _corner_problems, containment_problems
+
+    x0, y0, x1, y1 = T.shape.bounds
+    rounding = rounding_length(max(x1 - x0, y1 - y0), max(abs(x0), abs(y0), abs(x1), abs(y1)))
+    if min(T.radii) > 0:
+        return containment_problems(T) + _corner_problems(T, rounding)
+    # A radius 0 keeps sharp corners turning its way: only corners turning the other way are wrong.
+    bad = sum(_bad_corners(loop, *T.radii, rounding) for loop in T.loops)
+    return containment_problems(T) + ([f"{bad} corner(s) turn the way whose radius is positive"] if bad else [])
+
+
 def _not_supported(a: float, b: float, why: str) -> TwoRadiiNotSupportedError:
     return TwoRadiiNotSupportedError(
-        f"two radii r = ({a:g}, {b:g}) are computed only where every corner's disk is isolated or the "
-        f"shape is convex; here {why} (the general engine has one radius only)")
+        f"two radii r = ({a:g}, {b:g}) need the general engine here, which {why}")
 
 
 def _tighten_pair(S, a: float, b: float, init, tol: float):
@@ -338,20 +362,48 @@ def _tighten_pair(S, a: float, b: float, init, tol: float):
         if loop is not None:
             fast, path = [loop + (np.full(len(loop[0]), a_l),)], "convex"
     if fast is None:
-        raise _not_supported(a, b, "some corners' disks do not fit or meet other parts of the shape")
+        return _tighten_pair_general(S, S_local, frame, a, b, init, tol, precision)
     loops = [_loop_from_disks(c, s.astype(float), rho, phi, ln, sw, frame) for c, s, phi, ln, sw, rho in fast]
     geometry, valid = _assemble_valid(loops, tol)
-    if not (valid or geometry.is_valid) or geometry.is_empty:
-        raise _not_supported(a, b, "the rounded rings do not bound a valid region")
-    if not all(shapely.is_valid(Polygon(loop.sample(tol))) for loop in loops):
-        raise _not_supported(a, b, "a rounded ring touches itself")
-    if len(loops) > 1 and _loops_touch(loops, tol, frame.scale):
-        raise _not_supported(a, b, "two rounded rings touch (parts of the shape that meet)")
+    # Rounded rings that do not bound a valid region, a ring that touches itself, two rings that touch
+    # (parts of the shape that meet): only the general engine's surgery separates or joins them.
+    if (not (valid or geometry.is_valid) or geometry.is_empty
+            or not all(shapely.is_valid(Polygon(loop.sample(tol))) for loop in loops)
+            or (len(loops) > 1 and _loops_touch(loops, tol, frame.scale))):
+        return _tighten_pair_general(S, S_local, frame, a, b, init, tol, precision)
     result = TwoRadiiTightening(loops=loops, geometry=geometry, r=max(a, b), init=init.value, tolerance=tol,
                                 shape=S, converged=True, radii=(a, b))
     result._cache["_frame"] = frame
     result._cache["_path"] = path
     result._cache["_pair"] = (S_local, r_l, (a_l, b_l), precision, q, fast)
+    return result
+
+
+def _tighten_pair_general(S, S_local, frame, a: float, b: float, init, tol: float, precision: float):
+    """The general engine (`engine`) with a radius per disk: side +1 disks of radius a about the corners of
+    S↓a, side −1 disks of radius b about those of (S^c)↓b, the free space between R_a and F_b."""
+    from ._guard import drop_specks
+    from .engine import Init, _assemble, _Context, _initial_rings, _tighten_all
+
+    if init is Init.MASON:
+        raise _not_supported(a, b, "has no Mason(S) for two radii: use init='core' or 'input'")
+    a_l, b_l = a / frame.scale, b / frame.scale
+    r_l, tol_l = max(a_l, b_l), tol / frame.scale
+    ctx = _Context(S_local, r_l, tol_l, precision, radii=(a_l, b_l))
+    rings = _initial_rings(ctx, S_local, init)
+    disk_loops = _tighten_all(ctx, rings) if rings else []
+    x0, y0, x1, y1 = S.bounds
+    rounding = rounding_length(max(x1 - x0, y1 - y0), max(abs(x0), abs(y0), abs(x1), abs(y1)))
+    loops = [drop_specks(L.to_loop(frame), rounding) for L in disk_loops]
+    geometry = _assemble(loops, tol)
+    result = TwoRadiiTightening(loops=loops, geometry=geometry, r=max(a, b), init=init.value, tolerance=tol,
+                                shape=S, converged=all(L.converged for L in disk_loops), radii=(a, b))
+    if not result.converged:
+        warnings.warn("the exact finish did not settle on every loop: the result may enter the core or the "
+                      "anticore (Tightening.verify() lists where)", ConvergenceWarning, stacklevel=4)
+    result._cache["_exact"] = (ctx, disk_loops, (S_local, r_l, tol_l, precision))
+    result._cache["_frame"] = frame
+    result._cache["_path"] = "general"
     return result
 
 
@@ -380,7 +432,11 @@ def _verify(T) -> list[str]:
     tiny = 1e-9 * max(x1 - x0, y1 - y0) ** 2
     info = T._cache.get("_pair")
     frame = T._cache.get("_frame")
-    if T._cache.get("_path") == "empty" or info is None:
+    general = T._cache.get("_path") == "general"
+    if general:
+        ctx, _ = T._exact_context()
+        problems += _exact_a(T, None, frame, slack, tiny, offsets=(ctx.xE, ctx.xG))
+    elif T._cache.get("_path") == "empty" or info is None:
         R, _, _ = two_radii_morphology(T.shape, T.radii, tolerance=tol / 4)
         if not R.is_empty and R.difference(G.buffer(slack)).area > tiny:
             problems.append("(a) the tightening misses part of the core R_a")
@@ -402,16 +458,30 @@ def _verify(T) -> list[str]:
         bad = _bad_corners(loop, a, b, rounding)
         if bad:
             problems.append(f"(c) loop {i} has {bad} corner(s) where its radius is not 0")
-    if T._cache.get("_path") != "empty":
+    if general:
+        # The engine's own exact tests, each disk at its side's radius: (e) the loops stay out of the open
+        # R_a and the open complement of F_b (exact piece distances to S↓a and (S^c)↓b), every arc centred on
+        # an exact corner from its side, no piece entering a disk or offset piece, no two loops touching.
+        from .engine import Tightening
+
+        problems += Tightening._check_exact(T)
+        if not T.converged:
+            problems.append("the exact finish did not converge everywhere")
+    elif T._cache.get("_path") != "empty":
         problems += _check_pair_fast(T)
     return problems
 
 
-def _exact_a(T, info, frame, slack: float, tiny: float) -> list[str]:
-    """(a) for a result of the fast or the convex path, on S's exact offsets (see `_verify`)."""
+def _exact_a(T, info, frame, slack: float, tiny: float, offsets=None) -> list[str]:
+    """(a) for a result of the fast or the convex path, on S's exact offsets (see `_verify`); for the
+    general engine's, on the offsets its context holds (``offsets``: side +1's and side −1's)."""
     from .offsets import exact_offsets
 
-    S_local, _, (a_l, b_l), precision, _, _ = info
+    if offsets is not None:
+        xE, xG = offsets
+        a_l, b_l = xE.r, xG.r
+    else:
+        S_local, _, (a_l, b_l), precision, _, _ = info
     G = T.geometry
     G_local = frame.to_local(G) if not G.is_empty else G
     shapely.prepare(G_local)
@@ -423,7 +493,7 @@ def _exact_a(T, info, frame, slack: float, tiny: float) -> list[str]:
             if not inside and G.difference(T.shape.buffer(slack)).area > tiny:
                 problems.append("(a) the tightening extends outside S, its fillet for r_concave = 0")
             continue
-        X = exact_offsets(S_local, radius, side, precision=precision)
+        X = exact_offsets(S_local, radius, side, precision=precision) if offsets is None else offsets[side < 0]
         xy = X.test_points()
         if len(xy) == 0:
             continue
