@@ -336,7 +336,7 @@ def rows_from_logs(paths) -> list[dict]:
                 row["ratio"] = row["tighten"] / row["base8"]
                 row["ratio_tol"] = row["tighten"] / row["base_tol"]
             rows.append(row)
-    order = list(FAMILIES)
+    order = list(ALL_FAMILIES)
     return sorted(rows, key=lambda m: (order.index(m["family"]), m["vertices"]))
 
 
