@@ -486,3 +486,22 @@ def test_public_morphology_takes_the_pair(a, b):
         assert abs(exact - (S.area - loss)) <= 1e-12 * S.area
     with pytest.raises(vt.InvalidRadiusError):
         vt.mortar(S, (0.0, 0.0))
+
+
+def test_loops_with_two_radii_are_tightened_flattened_with_a_warning():
+    """A plate with a round hole given by its exact loops, at (0, b): the hole (radius 5 > b) stays, the
+    slot narrower than 2b is filled, the convex corners stay sharp; the same as the flattened polygon."""
+    from vectortighten.loop_input import FlattenWarning, region
+
+    plate = shapely.orient_polygons(shapely.difference(box(0, 0, 40, 20), box(26, 8, 28, 20)))  # slot 2 wide
+    loops = [vt.Loop.from_polygon_ring(plate.exterior.coords), vt.Loop.circle([10.0, 10.0], 5.0, ccw=False)]
+    with pytest.warns(FlattenWarning, match="two radii"):
+        T = vt.tighten(loops, (0.0, 3.0))
+    flat = region(loops, 1e-5 * 3.0)
+    ref = vt.tighten(flat, (0.0, 3.0))
+    assert T.area == pytest.approx(ref.area, rel=1e-12)
+    assert T.perimeter == pytest.approx(ref.perimeter, rel=1e-12)
+    # The hole survives (its radius 5 exceeds b) and the slot is filled: one component with one hole.
+    assert shapely.get_num_interior_rings(T.geometry) == 1
+    assert T.geometry.covers(box(26.2, 9, 27.8, 11))
+    assert all(arc.sweep < 0 for lp in T.loops for arc in lp.arcs)          # a = 0: no convex arc

@@ -24,8 +24,9 @@ Three paths, tried in this order:
   `verify` bounds.
 
 Not supported on the general engine (`TwoRadiiNotSupportedError`, never a silently wrong answer):
-``init="mason"`` (Mason(S) for two radii is not defined here). A pair ``(r, r)`` is the one-radius
-tightening itself (the same code path, the same numbers).
+``init="mason"`` (Mason(S) for two radii is not defined here). A shape given by its loops (segments and
+arcs) is tightened as the polygon it makes with its arcs flattened, with a `FlattenWarning`. A pair
+``(r, r)`` is the one-radius tightening itself (the same code path, the same numbers).
 """
 
 from __future__ import annotations
@@ -252,9 +253,7 @@ def tighten_two_radii(S, radii, *, init="core", tolerance: float | None = None):
     if a == b:
         return tighten(S, a, init=init, tolerance=tolerance)
     if not isinstance(S, (Polygon, MultiPolygon)) and _loop_input(S):
-        raise TwoRadiiNotSupportedError(
-            "two radii on a shape given by its loops (segments and arcs) are not supported yet: pass a "
-            "polygon, or one radius")
+        S = _flattened(S, a, b)
     r = max(a, b)
     S = check_shape(S)
     tol = check_tolerance(tolerance, r, S)
@@ -294,6 +293,27 @@ def tighten_two_radii(S, radii, *, init="core", tolerance: float | None = None):
         warnings.warn(f"the result fails its final check ({'; '.join(problems)}): returned with "
                       "converged=False (Tightening.verify() lists where)", ConvergenceWarning, stacklevel=3)
     return result
+
+
+def _flattened(S, a: float, b: float):
+    """The polygon a shape given by its loops makes with its arcs flattened within `FLATTEN_R` times the
+    smaller positive radius, with a `FlattenWarning` where there were arcs.
+
+    The exact paths for loops (a shape that is its own tightening, isolated corners filleted in closed form,
+    `loop_input`) are certified at one radius; with two, the polygon engine takes the flattened shape, as
+    the one-radius path does wherever those certificates fail.
+    """
+    from .loop_input import FLATTEN_R, FlattenWarning, as_loops, merge_arcs, region
+
+    loops = [merge_arcs(lp) for lp in as_loops(S)]
+    step = FLATTEN_R * min(x for x in (a, b) if x > 0)
+    arcs = sum(len(lp.arcs) for lp in loops)
+    if arcs:
+        warnings.warn(f"the shape's {arcs} arc{'s are' if arcs != 1 else ' is'} flattened to chords within "
+                      f"{step:.3g} before tightening with two radii: the result's arcs have radius a or b, the "
+                      "input's own radii are not kept (the exact paths for arcs take one radius)", FlattenWarning,
+                      stacklevel=4)
+    return region(loops, step)
 
 
 def _final_check(T) -> list[str]:
