@@ -504,3 +504,34 @@ def test_a_centre_the_buffers_lose_is_found_where_the_loop_enters_it():
     assert T.converged
     assert T.verify() == []
     assert _entered_shrink_depth(S, T, r, r / 150) < 1e-3      # was 0.0095 (0.013 at r/200)
+
+
+def test_the_finish_fills_runs_of_missed_corners_in_one_round(monkeypatch):
+    """On a densely sampled rippled star the funnel misses runs of nearly collinear corners; each inserted
+    disk brings the disks its neighbours' tangents enter (`engine._entered_chain`), so the exact finish
+    settles in two rounds (it took one round per missed corner of the longest run: 4 rounds here, 15 at
+    30k vertices), and the result is the same exact loop as a finish that adds one disk a gap a round."""
+    from vectortighten import engine
+
+    t = np.linspace(0, 2 * np.pi, 6000, endpoint=False)
+    rad = 30 + 3 * np.sin(5 * t) + 3 * np.sin(23 * t) + np.sin(41 * t + 1) + 0.5 * np.sin(97 * t + 2)
+    S = Polygon(np.column_stack([rad * np.cos(t), rad * np.sin(t)]))
+    rounds = []
+    real = engine._violations
+
+    def counted(ctx, L, cache=None):
+        rounds.append(L.n)
+        return real(ctx, L, cache)
+
+    monkeypatch.setattr(engine, "_violations", counted)
+    T = vt.tighten(S, 1.0)
+    with_chains = len(rounds)
+    assert with_chains <= 2, rounds
+    assert T.converged and T.verify() == []
+    monkeypatch.setattr(engine, "_entered_chain", lambda *args: [])       # one disk a gap a round
+    rounds.clear()
+    U = vt.tighten(S, 1.0)
+    assert len(rounds) > with_chains, rounds
+    assert [len(lp.pieces) for lp in U.loops] == [len(lp.pieces) for lp in T.loops]
+    assert U.perimeter == pytest.approx(T.perimeter, rel=1e-12)
+    assert U.area == pytest.approx(T.area, rel=1e-12)
