@@ -16,7 +16,7 @@ Every case is written as one JSON line to ``benchmarks/results/crosscheck_corpus
 done; with ``--explain`` each case that does not agree (equal topology, ≤ 2 px) also gets
 `CrossCheck.explain` (it tightens the mask exactly and S perturbed by ±half a diagonal of a fine pixel).
 
-    python benchmarks/crosscheck_corpus.py [--explain] [--only SUBSTRING] [--out FILE]
+    python benchmarks/crosscheck_corpus.py [--explain] [--only SUBSTRING] [--shapes A:B] [--out FILE]
 """
 
 from __future__ import annotations
@@ -71,6 +71,8 @@ def main(argv=None) -> int:
     p.add_argument("--only", default=None, help="run the cases whose name contains this")
     p.add_argument("--inits", default=",".join(INITS))
     p.add_argument("--radius-index", type=int, default=None, help="only the radius of this index")
+    p.add_argument("--shapes", default=None, metavar="A:B",
+                   help="only the shapes CHOSEN[A:B] (to run the corpus in chunks, e.g. 0:16 and 16:32)")
     p.add_argument("--failed-in", type=Path, default=None,
                    help="run only the cases that did not agree in this JSON-lines file (with --explain)")
     args = p.parse_args(argv)
@@ -87,8 +89,12 @@ def main(argv=None) -> int:
         print(f"missing from the corpus: {missing}", file=sys.stderr)
         return 2
     args.out.parent.mkdir(parents=True, exist_ok=True)
+    chosen = CHOSEN
+    if args.shapes is not None:
+        a, _, b = args.shapes.partition(":")
+        chosen = CHOSEN[int(a) if a else 0:int(b) if b else len(CHOSEN)]
     with args.out.open("a") as out:
-        for key in CHOSEN:
+        for key in chosen:
             case = by_key[key]
             if args.only and args.only not in case.name:
                 continue
