@@ -3,7 +3,7 @@
 The corpus was fixed before any result was seen (`CHOSEN`, committed first): 32 shapes from
 `benchmarks/corpus.py` — glyphs of all five fonts matplotlib ships there, toolbar icons, traced contours,
 country outlines, segmentation masks and CAD parts. Each is cross-checked at two radii, with both inits
-("core", "input"), with `vectortighten.crosscheck`'s defaults only (pixel size r/20, supersample 5, the
+("core", "input"), with `vectortighten.crosscheck`'s defaults only (pixel size r/20, supersample 7, the
 converged flow and the minimum-perimeter finish).
 
 Radii (also fixed in advance): r = max(f·w, D/25) for f in (0.25, 0.5), where w is the stroke width
@@ -112,7 +112,7 @@ def main(argv=None) -> int:
                         with warnings.catch_warnings(record=True) as caught:
                             warnings.simplefilter("always")
                             C = vt.crosscheck(case.shape, r, pixel_size=r / 20)
-                            row.update(hausdorff_px=C.hausdorff_px, vector_topology=list(C.vector_topology),
+                            row.update(supersample=C.supersample, hausdorff_px=C.hausdorff_px, vector_topology=list(C.vector_topology),
                                        raster_topology=list(C.raster_topology), agree=C.agree,
                                        converged=bool(C.raster.is_converged), grid=list(C.grid.shape),
                                        sym_share=C.symmetric_difference_share,
