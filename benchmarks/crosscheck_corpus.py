@@ -17,6 +17,7 @@ done; with ``--explain`` each case that does not agree (equal topology, ≤ 2 px
 `CrossCheck.explain` (it tightens the mask exactly and S perturbed by ±half a diagonal of a fine pixel).
 
     python benchmarks/crosscheck_corpus.py [--explain] [--only SUBSTRING] [--shapes A:B] [--out FILE]
+    python benchmarks/crosscheck_corpus.py --summarise FILE [FILE ...]
 """
 
 from __future__ import annotations
@@ -60,6 +61,33 @@ def radii(case) -> list[float]:
     return [max(f * case.width, D / FLOOR) for f in FRACTIONS]
 
 
+def summarise(rows: list[dict]) -> str:
+    """The counts (runs, distinct cases, how many agree) and a Markdown table of the cases that do not."""
+    runs = len(rows)
+    distinct = {}
+    for d in rows:
+        distinct.setdefault((d["name"], round(d["r"], 9), d["init"]), d)
+    cases = list(distinct.values())
+    agree = sum(bool(d.get("agree")) for d in cases)
+    errors = [d for d in cases if "error" in d]
+    rested = sum(bool(d.get("converged")) for d in cases)
+    out = [f"{runs} runs, {len(cases)} distinct cases; **{agree} of {len(cases)} "
+           f"({100 * agree / max(len(cases), 1):.1f} %) within 2 px with equal topology**; "
+           f"flow rested in {rested}; errors: {len(errors)}", "",
+           "| shape | r | init | Hausdorff (px) | exact (comp, holes) | pixel (comp, holes) | explain() verdicts |",
+           "|---|---:|---|---:|---|---|---|"]
+    for d in cases:
+        if d.get("agree"):
+            continue
+        kinds = {}
+        for k in d.get("verdicts", []):
+            kinds[k] = kinds.get(k, 0) + 1
+        verdicts = ", ".join(f"{n}× {k}" for k, n in kinds.items()) or d.get("error", "not explained")
+        out.append(f"| {d['family']} {d['name']} | {d['r']:.4g} | {d['init']} | {d.get('hausdorff_px', float('nan')):.2f} "
+                   f"| {tuple(d.get('vector_topology', ()))} | {tuple(d.get('raster_topology', ()))} | {verdicts} |")
+    return "\n".join(out)
+
+
 def main(argv=None) -> int:
     import corpus
 
@@ -75,7 +103,12 @@ def main(argv=None) -> int:
                    help="only the shapes CHOSEN[A:B] (to run the corpus in chunks, e.g. 0:16 and 16:32)")
     p.add_argument("--failed-in", type=Path, default=None,
                    help="run only the cases that did not agree in this JSON-lines file (with --explain)")
+    p.add_argument("--summarise", type=Path, nargs="+", default=None, metavar="JSONL",
+                   help="print the counts and the table of disagreements of these result files, and stop")
     args = p.parse_args(argv)
+    if args.summarise:
+        print(summarise([json.loads(line) for f in args.summarise for line in f.open() if line.strip()]))
+        return 0
     todo = None
     if args.failed_in is not None:
         done = set()
@@ -93,6 +126,7 @@ def main(argv=None) -> int:
     if args.shapes is not None:
         a, _, b = args.shapes.partition(":")
         chosen = CHOSEN[int(a) if a else 0:int(b) if b else len(CHOSEN)]
+    seen = {}
     with args.out.open("a") as out:
         for key in chosen:
             case = by_key[key]
@@ -106,6 +140,13 @@ def main(argv=None) -> int:
                         continue
                     if todo is not None:
                         todo.discard((case.name, round(r, 9), init))   # a radius repeated by the floor: once
+                    key = (case.name, round(r, 9), init)
+                    if key in seen:
+                        # The floor made both radii equal: the same computation, written once more.
+                        row = dict(seen[key], r_index=ri, repeat_of_r_index=seen[key]["r_index"], seconds=0.0)
+                        out.write(json.dumps(row) + "\n")
+                        out.flush()
+                        continue
                     t0 = time.perf_counter()
                     row = {"family": case.family, "name": case.name, "r": r, "r_index": ri, "init": init}
                     try:
@@ -124,6 +165,7 @@ def main(argv=None) -> int:
                     except Exception as exc:  # noqa: BLE001 - a benchmark records the failure and goes on
                         row["error"] = f"{type(exc).__name__}: {exc}"
                     row["seconds"] = time.perf_counter() - t0
+                    seen[key] = row
                     out.write(json.dumps(row) + "\n")
                     out.flush()
                     print(json.dumps({k: v for k, v in row.items() if k != "explain"}), flush=True)
