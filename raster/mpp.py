@@ -232,8 +232,10 @@ def mpp_finish(mask, core, fillet, *, core_sd=None, anticore_sd=None, return_cur
     Returns
     -------
     (H, W) ndarray of bool, or (that, curves) with ``return_curves``
-        The pixels whose centre lies inside the shortest loops (loops that overlap merge; a loop that can shrink to nothing, one around no core, vanishes). ``core ⊆ result ⊆
-        fillet`` holds exactly.
+        The pixels whose centre lies inside the shortest loops (loops that overlap merge; a loop that can
+        shrink to nothing, one around no core, vanishes; parts whose shortest loops touch merge, and so
+        do holes whose loops touch, and the merged set is wrapped again, as the level set goes on from
+        the merged front). ``core ⊆ result ⊆ fillet`` holds exactly.
 
     Examples
     --------
