@@ -254,16 +254,15 @@ def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None) -> tup
     """
     flat = P.ravel()
     c = flat[idx]
-    offs = (1, -1, W, -W, -W + 1, W - 1, -W - 1, W + 1)     # e, w, s, n, ne, sw, nw, se (opposites paired)
-    v = [flat[idx + o] for o in offs]
+    # e, w, s, n, ne, sw, nw, se (opposites paired), gathered at once: one (8, N) array.
+    offs = np.array((1, -1, W, -W, -W + 1, W - 1, -W - 1, W + 1))
+    j = offs[:, None] + idx[None, :]
+    vv = flat[j]
+    v = list(vv)
     if comp is not None:
-        neg_c = c < 0
         own_c = owner[idx]
-        foreign = []
-        for o, vo in zip(offs, v):
-            same = (vo < 0) == neg_c
-            j = idx + o
-            foreign.append(np.where(same, owner[j] != own_c, comp[j] != own_c))
+        same = (vv < 0) == (c < 0)[None, :]
+        foreign = list(np.where(same, owner[j] != own_c, comp[j] != own_c))
         for a in range(0, 8, 2):
             b = a + 1
             fa, fb = foreign[a], foreign[b]

@@ -65,8 +65,23 @@ MAX_PADDED_PIXELS = 4 * 8192 * 8192
 
 
 def _pad(mask: np.ndarray, r: float, passes: int) -> tuple[np.ndarray, int]:
-    """Edge-replicated padding wide enough for ``passes`` operations of radius r."""
+    """Edge-replicated padding wide enough for ``passes`` operations of radius r.
+
+    For an opening (``passes=2``) of a mask whose True pixels all lie at least ``ceil(r) + 2`` pixels from
+    every border, ``ceil(r) + 2`` is enough, with the same result on the image, pixel for pixel: beyond the
+    image every pixel is False and every pixel farther than r + ½ from the True ones (the border's own
+    pixels among them) is a centre of the complement's shrink, so the nearest such centre to an image
+    pixel, and every disk that reaches it, is found within the narrower frame (a point beyond it is
+    never nearer than its projection onto the frame's edge, itself such a centre), and every corner
+    where a disk fits lies farther from the frame's edge than `_opening`'s box reaches.
+    """
     p = passes * math.ceil(r) + 1
+    if passes == 2 and mask.any():
+        k = math.ceil(r) + 2
+        rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+        h, w = mask.shape
+        if rows[0] >= k and cols[0] >= k and rows[-1] <= h - 1 - k and cols[-1] <= w - 1 - k:
+            p = min(p, k)
     h, w = mask.shape
     if (h + 2 * p) * (w + 2 * p) > MAX_PADDED_PIXELS:
         raise ValueError(f"r = {r:g} px is too large for this {h} × {w} mask: its morphology would pad it to "

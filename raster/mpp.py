@@ -103,6 +103,76 @@ def _only_vanished(before: np.ndarray, after: np.ndarray) -> bool:
     return bool((per_after == 1).all() and (per_before <= 1).all())
 
 
+#: Two shortest loops closer than this (pixels) touch: both run along the same constraint's edge (each
+#: within `_THICKEN` of it).
+_TOUCH = 1e-4
+
+
+#: Most times `mpp_finish` wraps a merged set again (each time the set has fewer parts, or as many
+#: parts and fewer holes, so the count is bounded anyway; this only caps the work).
+_MAX_REWRAPS = 20
+
+
+def _touch_groups(polys: list) -> int:
+    """How many groups the polygons fall into when those closer than `_TOUCH` are joined."""
+    tree = shapely.STRtree(polys)
+    left, right = tree.query(polys, predicate="dwithin", distance=_TOUCH)
+    parent = list(range(len(polys)))
+
+    def find(a: int) -> int:
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    for a, b in zip(left, right):
+        parent[find(int(a))] = find(int(b))
+    return len({find(a) for a in range(len(polys))})
+
+
+def _touching_merges(out: np.ndarray, before: np.ndarray, pieces: list, reps: list) -> bool:
+    """Whether ``out`` has fewer parts than ``before`` only where wrapped pieces touch: each part of ``out``
+    (8-connected) that holds two or more parts of ``before`` holds pieces that are joined by a chain of
+    pieces touching one another (closer than `_TOUCH`), and every part of ``before`` in it is one of
+    those pieces' own. ``pieces`` are the finished loops as polygons, ``reps`` a core pixel (row, column) each
+    holds (None if it holds none)."""
+    eight = np.ones((3, 3), bool)
+    la, na = ndimage.label(out, structure=eight)
+    lb, nb = ndimage.label(before, structure=eight)
+    if na >= nb or not pieces:
+        return False
+    # Which parts of ``before`` each part of ``out`` holds.
+    pairs = np.unique(np.stack([la[before & out], lb[before & out]]), axis=1)
+    held = {}
+    for a, b in pairs.T:
+        if a > 0 and b > 0:
+            held.setdefault(int(a), set()).add(int(b))
+    # The part of ``out`` each piece lies in.
+    piece_of = {}
+    for k, rep in enumerate(reps):
+        if rep is not None and la[rep] > 0:
+            piece_of.setdefault(int(la[rep]), []).append(k)
+    tree = shapely.STRtree(pieces)
+    left, right = tree.query(pieces, predicate="dwithin", distance=_TOUCH)
+    touch = {(int(a), int(b)) for a, b in zip(left, right)}
+    for a, parts in held.items():
+        if len(parts) < 2:
+            continue
+        ks = piece_of.get(a, [])
+        if len(ks) < len(parts):
+            return False                    # a part of ``before`` in it has no loop of its own here
+        seen, stack = {ks[0]}, [ks[0]]
+        while stack:
+            u = stack.pop()
+            for v in ks:
+                if v not in seen and (u, v) in touch:
+                    seen.add(v)
+                    stack.append(v)
+        if len(seen) != len(ks):
+            return False
+    return True
+
+
 def _rings(geom) -> list[tuple[int, np.ndarray, bool]]:
     """(part index, coordinates, is_exterior) for every ring of every polygon part."""
     out = []
@@ -141,7 +211,8 @@ def _edge_polygon(inside: np.ndarray, sd: np.ndarray):
     return shapely.intersection(_rings_to_polygons(rings), _squares(inside))
 
 
-def mpp_finish(mask, core, fillet, *, core_sd=None, anticore_sd=None, return_curves: bool = False):
+def mpp_finish(mask, core, fillet, *, core_sd=None, anticore_sd=None, return_curves: bool = False,
+               _depth: int = 0):
     """Replace each boundary loop of ``mask`` by the shortest loop homotopic to it in the pixel mortar.
 
     Parameters
@@ -161,8 +232,10 @@ def mpp_finish(mask, core, fillet, *, core_sd=None, anticore_sd=None, return_cur
     Returns
     -------
     (H, W) ndarray of bool, or (that, curves) with ``return_curves``
-        The pixels whose centre lies inside the shortest loops (loops that overlap merge; a loop that can shrink to nothing, one around no core, vanishes). ``core ⊆ result ⊆
-        fillet`` holds exactly.
+        The pixels whose centre lies inside the shortest loops (loops that overlap merge; a loop that can
+        shrink to nothing, one around no core, vanishes; parts whose shortest loops touch merge, and so
+        do holes whose loops touch, and the merged set is wrapped again, as the level set goes on from
+        the merged front). ``core ⊆ result ⊆ fillet`` holds exactly.
 
     Examples
     --------
@@ -212,6 +285,7 @@ def mpp_finish(mask, core, fillet, *, core_sd=None, anticore_sd=None, return_cur
     shortest = ShortestLoops(domain, probe=8)
 
     kept_own = False
+    merged_holes = False
 
     def wrap(ring: np.ndarray) -> Polygon | None:
         nonlocal kept_own
@@ -229,7 +303,7 @@ def mpp_finish(mask, core, fillet, *, core_sd=None, anticore_sd=None, return_cur
     xs, ys = jj + 0.5, -ii - 0.5
     inside = np.zeros(len(ii), dtype=bool)
     tie = np.zeros(len(ii), dtype=bool)
-    pieces = []
+    pieces, reps = [], []
     # Each part of the set is wrapped and sampled on its own: two loops that come to touch along a line
     # share no pixel centre and stay two parts; loops that overlap share pixels and merge, as the level set
     # merges them.
@@ -266,20 +340,34 @@ def mpp_finish(mask, core, fillet, *, core_sd=None, anticore_sd=None, return_cur
         own = _part_pixels(part, parts_lab)
         mine |= R & own
         topo = _topology(mine[_box_of(mine)]) if mine.any() else (0, 0)
-        if topo != (1, len(holes)) and topo[0] != 0:
+        groups = _touch_groups(holes) if topo != (1, len(holes)) and len(holes) > 1 else len(holes)
+        if topo == (1, groups) and groups < len(holes):
+            merged_holes = True                 # hole loops that touch: the wall between them vanishes
+        elif topo != (1, len(holes)) and topo[0] != 0:
             own &= movable
             inside |= own[ii, jj]
             kept_own = True
             continue
         inside[got] = True
         pieces.append(piece)
+        held = np.argwhere(R & own)             # its core pixels: in the result whatever the loops do
+        reps.append(tuple(held[0]) if len(held) else None)
     inside[tie] = M[ii[tie], jj[tie]]
     out[ii, jj] = inside
     out = (out | R) & F
-    # The flow found the topology; the finish only straightens. Where the sampled loops come to touch
-    # (two parts whose wrapped curves leave pixels diagonally adjacent), keep the flow's result.
+    # The flow found the topology; the finish only straightens. Two changes are the level set's own: a
+    # part that vanishes (its loop shrinks to nothing), and parts whose shortest loops touch, which merge
+    # (the flow stops once its topology rests, and a front that is still coming may meet another: the
+    # concave side of one part straightening onto the core of its neighbour). Then the merged set is
+    # wrapped again, as the level set goes on from the merged front. Where the sampled loops only come to
+    # touch on pixels (two curves apart, whose samples are diagonally adjacent), keep the flow's result.
     before = (M | R) & F
     if _topology(out) != _topology(before) and not (_only_vanished(before, out) or _only_vanished(~before, ~out)):
+        same_parts = _topology(out)[0] == _topology(before)[0]
+        if not kept_own and _depth < _MAX_REWRAPS and (merged_holes if same_parts else
+                                                        _touching_merges(out, before, pieces, reps)):
+            return mpp_finish(out, R, F, core_sd=core_sd, anticore_sd=anticore_sd, return_curves=return_curves,
+                              _depth=_depth + 1)
         return (before, None) if return_curves else before
     if not return_curves:
         return out

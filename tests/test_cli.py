@@ -433,9 +433,10 @@ def test_figures_command_one_figure(tmp_path, capsys):
     assert "unknown figure" in capsys.readouterr().err
 
 
-def test_compare_supersamples_five_times_by_default(tmp_path, capsys):
+def test_compare_supersamples_by_default(tmp_path, capsys):
     # A disk of radius 1.02·r: its shrink, 0.4 px across at r/20, holds no pixel centre of a plain
-    # rasterisation, and the pixel result loses the disk; five times finer it keeps it, as the exact one.
+    # rasterisation, and the pixel result loses the disk; supersampled (the default, 7) it keeps it, as
+    # the exact one.
     src = tmp_path / "disk.wkt"
     src.write_text(shapely.Point(0.3, 0.1).buffer(1.02, quad_segs=64).wkt)
     results = {}

@@ -86,3 +86,40 @@ def test_the_papers_budget_says_so_and_warns_when_it_does_not_rest():
     assert T.budget == "the paper's 100 steps a level"
     assert len(T.converged) == T.levels
     assert all(T.converged) or any(issubclass(x.category, raster.NotConvergedWarning) for x in w)
+
+
+def test_loops_that_touch_merge_as_the_level_set_merges_them():
+    # An arch (a bar with two legs, concave from below) over a block that reaches up between its legs,
+    # the gaps between them all mortar. The flow from the core leaves the two parts apart; the arch's
+    # shortest loop straightens its concave side onto the block's top, where the block's own loop runs:
+    # the loops touch, and the level set merges the fronts there. The merged part is wrapped again, so
+    # the gaps between the arch and the block fill.
+    core = np.zeros((60, 60), bool)
+    core[10:14, 10:50] = True
+    core[10:40, 10:14] = True
+    core[10:40, 46:50] = True
+    block = np.zeros_like(core)
+    block[30:50, 20:40] = True
+    core |= block
+    fillet = np.zeros_like(core)
+    fillet[5:55, 5:55] = True
+    out = mpp_finish(core, core, fillet)
+    from scipy import ndimage
+    assert ndimage.label(out, structure=np.ones((3, 3), bool))[1] == 1
+    assert out[20, 30] and out[35, 16] and out[35, 43]          # above the block, beside it
+    assert (core <= out).all() and (out <= fillet).all()
+    # Self-dual: the complement's finish gives the complement.
+    assert (mpp_finish(~core, ~fillet, ~core) == ~out).all()
+
+
+def test_loops_that_come_within_a_pixel_but_do_not_touch_stay_apart():
+    # Two bars whose straight loops run a fraction of a pixel apart (their samples diagonally adjacent,
+    # say) do not touch: the parts stay two.
+    core = np.zeros((40, 40), bool)
+    core[8:32, 8:19] = True
+    core[8:32, 21:32] = True
+    fillet = np.zeros_like(core)
+    fillet[4:36, 4:36] = True
+    out = mpp_finish(core, core, fillet)
+    from scipy import ndimage
+    assert ndimage.label(out, structure=np.ones((3, 3), bool))[1] == 2

@@ -899,8 +899,8 @@ def _add_compare(sub) -> None:
                            "a safety cap; the paper's budget is 100)")
     cmp_.add_argument("--supersample", type=_odd_positive_int, default=None, metavar="K",
                       help="rasterise IN K times finer (K odd) for the pixel method's core, fillet and start, "
-                           "and flow on the grid of P (default 5, which agrees best, at 5 to 20 times "
-                           "the time of 1; 1 is the paper's method on a plain rasterisation; a fine grid "
+                           "and flow on the grid of P (default 7, which agrees best, at about twice the time "
+                           "of 5 and 10 to 40 times that of 1; 1 is the paper's method on a plain rasterisation; a fine grid "
                            "over 50 million pixels falls back to 1 with a warning)")
     cmp_.add_argument("--mask-reference", action="store_true",
                       help="also tighten the rasterised input exactly and compare the pixel result with it "

@@ -280,7 +280,7 @@ def pixel_squares(mask: np.ndarray, grid):
 
 
 def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: int | None = None,
-               iterations: int | None = None, mask_reference: bool = False, supersample: int = 5,
+               iterations: int | None = None, mask_reference: bool = False, supersample: int = 7,
                finish: str = "mpp") -> CrossCheck:
     """Tighten S exactly and on pixels, and compare the two on the same grid.
 
@@ -313,12 +313,14 @@ def crosscheck(S, r: float, *, pixel_size: float, init: str = "core", levels: in
     supersample : int, odd, ≥ 1
         Rasterise S this many times finer (pixels of side ``pixel_size / supersample``, in S's units) and
         let `raster.tighten` compute its core, fillet and start, and their signed distances, there (its
-        ``supersample``); the flow and the comparison stay on the grid of ``pixel_size``. The default, 5,
-        is the measured choice (`benchmarks/crosscheck_supersample.py`, five corpus shapes at ``r / 20``,
-        in ``benchmarks/results/crosscheck_corpus.md``): plain morphology (1) misses the 2 px bar on a
-        country outline (4.15 px), 3 agrees on all five but leaves that one at 1.73 px, 5 at 0.88 px and
-        the median at 0.51 px (1: 1.13, 3: 0.55); the pixel side then takes 4.6 to 21 times as long as
-        with 1 (3: 3.1 to 6.6), nearly all of it the morphology on the fine grid. 1 is the paper's
+        ``supersample``); the flow and the comparison stay on the grid of ``pixel_size``. The default, 7,
+        is the measured choice (``benchmarks/results/crosscheck_corpus.md``): on the 32-shape corpus
+        at ``r / 20``, 5 left three shapes (a glyph, two countries; six cases) 2.02 to 2.15 px off
+        where the exact answer turns on S moved by half a fine pixel, which 7 decides (1.47 to 1.62
+        px), at about twice the time of 5 (the morphology on the fine grid is nearly all of it). On
+        five shapes (`benchmarks/crosscheck_supersample.py`): plain morphology (1) misses the 2 px bar
+        on a country outline (4.15 px), 3 leaves it at 1.73 px, 5 at 0.88 px; 5 takes 4.6 to 21 times
+        as long as 1. 1 is the paper's
         method on a plain rasterisation, `raster.tighten`'s own default (a mask has no finer version).
         A fine grid over `raster.MAX_SUPERSAMPLED_PIXELS` falls back to 1 with a warning. With
         ``mask_reference`` the reference is the union of the fine mask's squares.
