@@ -294,14 +294,20 @@ def test_sharp_inside_corners_on_the_general_engine():
     assert left == pytest.approx([a] * len(left), rel=1e-14) and all(arc.sweep > 0 for lp in T.loops for arc in lp.arcs)
 
 
-@pytest.mark.parametrize("S, r, init, words", [
-    (MultiPolygon([box(0, 0, 4, 4), box(4.5, 0, 8.5, 4)]), (0.8, 1.0), "mason", "init='core' or 'input'"),
-])
-def test_what_the_general_engine_does_not_take_is_refused_clearly(S, r, init, words):
-    with pytest.raises(TwoRadiiNotSupportedError, match=words) as info:
-        vt.tighten(S, r, init=init)
-    assert isinstance(info.value, NotImplementedError) and isinstance(info.value, vt.TighteningError)
-    assert "\n" not in str(info.value)
+@pytest.mark.parametrize("r", [(0.5, 1.0), (1.0, 0.5), (0.0, 1.0), (0.8, 0.0)])
+def test_mason_with_two_radii_on_the_general_engine(r):
+    """init='mason' with two radii starts from Mason between R_a and F_b: on two squares joined by a bar
+    thinner than 2a the result is one of the two tightenings the other inits give (the bar kept or not),
+    between R_a and F_b, verified."""
+    S = box(0, 0, 4, 4).union(box(6, 0, 10, 4)).union(box(4, 1.6, 6, 2.4))
+    T = vt.tighten(S, r, init="mason")
+    assert T.verify() == []
+    R, F = vt.core(S, r), vt.fillet(S, r)            # both sampled like T: within 2 tolerances of each other
+    slack = 2.0 * T.tolerance
+    assert R.difference(T.geometry.buffer(slack)).area < 1e-12 and T.geometry.difference(F.buffer(slack)).area < 1e-12
+    others = [vt.tighten(S, r, init=init) for init in ("core", "input")]
+    assert any(T.area == pytest.approx(U.area, rel=1e-12) and T.perimeter == pytest.approx(U.perimeter, rel=1e-12)
+               for U in others)
 
 
 def test_a_shape_too_thin_for_either_disk_vanishes():

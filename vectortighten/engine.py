@@ -1225,6 +1225,11 @@ def _initial_rings(ctx: _Context, S_local, init: Init) -> list[np.ndarray]:
         return _rings(ctx.R)
     if init is Init.INPUT:
         return _rings(S_local)
+    if ctx.two:
+        # Two radii: Mason between R_a and F_b (`morphology._mason` with ``r_concave``).
+        q_a = quad_segs_for(ctx.ra, ctx.tol_int) if ctx.ra > 0 else 0
+        M = _m._mason(S_local, ctx.ra, q_a, ctx.tol_int, exact=(ctx.xE, ctx.xG, ctx.S), r_concave=ctx.rb)
+        return _rings(M)
     S_m, r_m, q_m = _m._prepare(S_local, ctx.r, ctx.tol_int)
     M = _m._mason(S_m, r_m, q_m, ctx.tol_int, exact=(ctx.xE, ctx.xG, ctx.S))   # offsets computed once
     return _rings(M)
@@ -1692,9 +1697,8 @@ def tighten(S, r: float | tuple[float, float], *, init: str | Init = "core",
         not both 0: the core is ``R_a(S)``, the fillet ``F_b(S)``, arcs turning left have radius a and
         arcs turning right radius b, and a radius 0 keeps those corners sharp (``(0, tool_radius)``: the
         CNC inside-corner rule). ``(r, r)`` is r itself. Two different radii return a
-        `two_radii.TwoRadiiTightening` (``T.r`` is then the larger radius, ``T.radii`` the pair);
-        ``init="mason"`` on a shape whose corners interact raises
-        `two_radii.TwoRadiiNotSupportedError` (see `vectortighten.two_radii`).
+        `two_radii.TwoRadiiTightening` (``T.r`` is then the larger radius, ``T.radii`` the pair; see
+        `vectortighten.two_radii`).
     init : {"core", "input", "mason"}
         The flow's initial condition: ``"core"`` starts from the core (the paper's implementation: thin
         parts and constrictions go), ``"input"`` from S itself (self-dual, §4.2: tight constrictions

@@ -800,14 +800,22 @@ def mason(S, r: float, *, tolerance: float | None = None) -> Polygonal:
     return _mason(S, r, q, check_tolerance(tolerance, r))
 
 
-def _mason(S: Polygonal, r: float, q: int, tol: float, exact=None) -> Polygonal:
+def _mason(S: Polygonal, r: float, q: int, tol: float, exact=None, r_concave: float | None = None) -> Polygonal:
     """`mason` on a checked S; ``exact``: S's exact offsets ``(side +1, side −1)`` if already computed
-    (the engine has them), used only if they are of this S (bit for bit)."""
+    (the engine has them), used only if they are of this S (bit for bit).
+
+    With ``r_concave = b`` (two radii, `two_radii`; r is then the convex radius a, either may be 0): the
+    core is R_a(S), the fillet F_b(S), and each pocket takes ``R_a(F_b(S))`` or ``F_b(R_a(S))``, whichever
+    differs less from S there (a radius 0 leaves its operation out: R_0 and F_0 are the identity).
+    """
+    a = r
+    b = r if r_concave is None else r_concave
+    qb = q if r_concave is None else (quad_segs_for(b, tol) if b > 0 else 0)
     xE = xG = None
     if exact is not None and shapely.equals_exact(_orient(S), _orient(exact[2]), tolerance=0.0):
         xE, xG = exact[0], exact[1]
-    R = _core(S, r, q, exact=xE)
-    F = _fillet(S, r, q, exact=xG)
+    R = _core(S, a, q, exact=xE) if a > 0 else _orient(S)
+    F = _fillet(S, b, qb, exact=xG) if b > 0 else _orient(S)
     M = _polygonal(shapely.difference(F, R))
     if M.is_empty:
         return R
@@ -817,9 +825,15 @@ def _mason(S: Polygonal, r: float, q: int, tol: float, exact=None) -> Polygonal:
     # overlaid with a pocket P ⊆ F − R, so the overlays that put R∘F inside F and F∘R around R (a second
     # of noding along the nearly coincident boundaries on 64 holes) are left out: P ∩ R∘F ⊆ F already,
     # and R adds nothing to P but its boundary; the result is put between R and F once, at the end.
-    E_F = _shrink_raw(F, r, q)
-    RF = _grow_raw(E_F, r, q) if not E_F.is_empty else Polygon()
-    FR = _shrink_raw(_grow_raw(R, r, q), r, q) if not R.is_empty else R
+    if a > 0:
+        E_F = _shrink_raw(F, a, q)
+        RF = _grow_raw(E_F, a, q) if not E_F.is_empty else Polygon()
+    else:
+        RF = F
+    if b > 0:
+        FR = _shrink_raw(_grow_raw(R, b, qb), b, qb) if not R.is_empty else R
+    else:
+        FR = R
     parts = _pockets(M, 2.0 * tol)
     in_s, in_rf, in_fr = (_per_part(parts, X) for X in (S, RF, FR))
     d_rf = shapely.area(shapely.symmetric_difference(in_rf, in_s))

@@ -23,10 +23,11 @@ Three paths, tried in this order:
   corner of the boundary chain it cuts off as the disk to add; the depth of such an entry is what
   `verify` bounds.
 
-Not supported on the general engine (`TwoRadiiNotSupportedError`, never a silently wrong answer):
-``init="mason"`` (Mason(S) for two radii is not defined here). A shape given by its loops (segments and
-arcs) is tightened as the polygon it makes with its arcs flattened, with a `FlattenWarning`. A pair
-``(r, r)`` is the one-radius tightening itself (the same code path, the same numbers).
+``init="mason"`` starts from Mason(S) between R_a and F_b: each pocket of the mortar takes
+``R_a(F_b(S))`` or ``F_b(R_a(S))``, whichever differs less from S there (`morphology._mason`). A shape
+given by its loops (segments and arcs) is tightened as the polygon it makes with its arcs flattened, with a
+`FlattenWarning`. A pair ``(r, r)`` is the one-radius tightening itself (the same code path, the same
+numbers).
 """
 
 from __future__ import annotations
@@ -53,8 +54,8 @@ __all__ = ["TwoRadiiNotSupportedError", "TwoRadiiTightening", "is_pair", "parse_
 class TwoRadiiNotSupportedError(TighteningError, NotImplementedError):
     """Two different radii where no two-radii path applies.
 
-    Every pair is computed with ``init="core"`` or ``"input"``; ``init="mason"`` with two radii only
-    where every corner of S is isolated or S is convex. Use ``init="core"`` or ``"input"`` there.
+    Every pair and every init is computed today; the class stays for code that catches it (it was raised
+    for ``init="mason"`` on the general engine, and for shapes given by their loops).
     """
 
 
@@ -232,8 +233,6 @@ def tighten_two_radii(S, radii, *, init="core", tolerance: float | None = None):
     ------
     InvalidRadiusError
         For a bad pair (see `parse_radii`) or a positive radius below what doubles resolve for S.
-    TwoRadiiNotSupportedError
-        For ``init="mason"`` where the general engine is needed (see the module notes).
 
     Examples
     --------
@@ -358,11 +357,6 @@ def _general_check(T) -> list[str]:
     return containment_problems(T) + ([f"{bad} corner(s) turn the way whose radius is positive"] if bad else [])
 
 
-def _not_supported(a: float, b: float, why: str) -> TwoRadiiNotSupportedError:
-    return TwoRadiiNotSupportedError(
-        f"two radii r = ({a:g}, {b:g}) need the general engine here, which {why}")
-
-
 def _tighten_pair(S, a: float, b: float, init, tol: float):
     from ._validation import quad_segs_for
     from .engine import _assemble_valid, _Frame
@@ -405,8 +399,6 @@ def _tighten_pair_general(S, S_local, frame, a: float, b: float, init, tol: floa
     from ._guard import drop_specks
     from .engine import Init, _assemble, _Context, _initial_rings, _tighten_all
 
-    if init is Init.MASON:
-        raise _not_supported(a, b, "has no Mason(S) for two radii: use init='core' or 'input'")
     a_l, b_l = a / frame.scale, b / frame.scale
     r_l, tol_l = max(a_l, b_l), tol / frame.scale
     ctx = _Context(S_local, r_l, tol_l, precision, radii=(a_l, b_l))
