@@ -179,6 +179,9 @@ def containment_problems(result) -> list[str]:
     certify) against the public core and fillet at a coarse tolerance.
     """
     cache = result._cache
+    if "_members" in cache:
+        # Far-apart groups of parts tightened alone (`engine._split_fast`): each checked as its path's.
+        return [p for part in cache["_members"] for p in containment_problems(part)]
     frame = cache.get("_frame")
     exact = cache.get("_exact")
     ctx = exact[0] if exact is not None else None

@@ -23,7 +23,7 @@ _LONG_HALF_R = 1.0
 
 #: Below this many (query, item) pairs every pair is measured: cheaper than building and walking trees
 #: (a small polygon's loop against its offsets), and the same pairs come out.
-_ALL_PAIRS = 1 << 16
+_ALL_PAIRS = 1 << 12
 
 
 def _all_pairs(m: int, n: int) -> tuple[np.ndarray, np.ndarray]:

@@ -1444,6 +1444,15 @@ class Tightening:
         or of the fillet (turning right), every join is G1, every straight piece stays in the mortar;
         (d) the radius of curvature is at least r.
         """
+        members = self._cache.get("_members")
+        if members is not None:
+            # Far-apart groups of parts tightened alone (`_split_fast`): each is judged as its own path's
+            # result; their fillets are disjoint, so their loops cannot touch.
+            problems = [f"{p} (group {k} of far-apart parts)" for k, part in enumerate(members)
+                        for p in part.verify()]
+            if not self.geometry.is_valid:
+                problems.append(f"(b) geometry is invalid: {shapely.is_valid_reason(self.geometry)}")
+            return problems
         problems: list[str] = []
         r, tol = self.r, self.tolerance
         T = self.geometry
@@ -1781,6 +1790,73 @@ def _loop_input(S) -> bool:
     return is_loop_input(S)
 
 
+def _fast_result(fast, frame: _Frame, r_l: float, tol: float):
+    """The disk loops, loops and geometry of a fast-path (or convex) result, or Nones if it cannot stand.
+
+    It cannot when its geometry is invalid or empty, or when two of its loops touch: parts of S that touch
+    (a repaired self-intersection leaves two parts sharing a vertex) have touching loops too, and only the
+    general engine's surgery separates or joins them.
+    """
+    disk_loops = [_DiskLoop(np.full(len(c), -1), s.astype(np.int64), c, phi, ln, sw, r_l)
+                  for c, s, phi, ln, sw in fast]
+    loops = [L.to_loop(frame) for L in disk_loops]
+    geometry, valid = _assemble_valid(loops, tol)
+    if not (valid or geometry.is_valid) or geometry.is_empty:
+        return None, None, None
+    if len(disk_loops) > 1 and _contacts(_Radius(r_l), disk_loops):
+        return None, None, None
+    return disk_loops, loops, geometry
+
+
+#: Parts of S farther apart than this many r are tightened independently (`_split_fast`).
+_APART_R = 3.0
+
+
+def _split_fast(S, r: float, q: int, init: str, precision: float, frame: _Frame, tol: float):
+    """Tighten the far-apart groups of S's parts that the fast path takes, each alone.
+
+    Returns ``(groups, rest)``: for each fast group ``(G, path, disk_loops, loops, geometry)`` (G in the
+    local frame, path "fast" or "convex", the loops in the world's), and the other parts (a Polygon or MultiPolygon for the
+    general engine, or None); or None when S is one group or no group is fast, and the general engine
+    takes S whole as before.
+
+    Why groups farther apart than 3r are independent: the core is a union of disks inside S, each inside
+    one part. A point p within r of a group A is outside the fillet of A exactly when an open disk of
+    radius r outside A holds p; that disk lies within 3r of A, so it misses every other group, and p is
+    outside the fillet of S as well. So the fillet, the core and the mortar of S are the unions of the
+    groups' own, and the mortar's components, where the tight loops live, each belong to one group.
+    """
+    parts = shapely.get_parts(S)
+    if len(parts) < 2:
+        return None
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    # A little over 3r: a pair whose distance rounds below 3r stays together.
+    i, j = shapely.STRtree(parts).query(parts, predicate="dwithin", distance=_APART_R * r * (1 + 1e-9))
+    n, label = connected_components(coo_matrix((np.ones(len(i)), (i, j)), shape=(len(parts),) * 2),
+                                    directed=False)
+    if n < 2:
+        return None
+    groups = [np.flatnonzero(label == k) for k in range(n)]
+    done, rest = [], []
+    for g in groups:
+        G = parts[g[0]] if len(g) == 1 else MultiPolygon(list(parts[g]))
+        fast, path = _fast.fast_disk_loops(G, r, q, init, precision), "fast"
+        if fast is None and len(g) == 1:
+            loop = _convex.convex_disk_loop(G, r)
+            fast, path = ([loop], "convex") if loop is not None else (None, path)
+        got = _fast_result(fast, frame, r, tol) if fast is not None else (None,)
+        if got[0] is None:
+            rest.extend(parts[g])
+        else:
+            done.append((G, path) + got)
+    if not done:
+        return None
+    rest = None if not rest else (rest[0] if len(rest) == 1 else MultiPolygon(rest))
+    return done, rest
+
+
 def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Tightening:
     """`tighten` on checked arguments; ``allow_fast=False`` forces the general engine (for testing)."""
     frame = _Frame.of(S)
@@ -1797,16 +1873,35 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
         fast, path = ([loop], "convex") if loop is not None else (None, path)
     ctx = None
     if fast is not None:
-        disk_loops = [_DiskLoop(np.full(len(c), -1), s.astype(np.int64), c, phi, ln, sw, r_l)
-                      for c, s, phi, ln, sw in fast]
-        loops = [L.to_loop(frame) for L in disk_loops]
-        geometry, valid = _assemble_valid(loops, tol)
-        if not (valid or geometry.is_valid) or geometry.is_empty:
+        disk_loops, loops, geometry = _fast_result(fast, frame, r_l, tol)
+        if disk_loops is None:
             fast = None
-        elif len(disk_loops) > 1 and _contacts(_Radius(r_l), disk_loops):
-            # Parts of S that touch (a repaired self-intersection leaves two parts sharing a vertex): their
-            # loops touch too, and only the general engine's surgery separates or joins them.
-            fast = None
+    if fast is None and allow_fast and isinstance(S_local, MultiPolygon):
+        # Parts far apart are tightened alone: those the fast path takes need no general engine.
+        split = _split_fast(S_local, r_l, q_exact, init.value, precision, frame, tol)
+        if split is not None:
+            groups, rest = split
+            if rest is not None:
+                sub = _Context(rest, r_l, tol_l, precision)
+                rings = _initial_rings(sub, rest, init)
+                more = _tighten_all(sub, rings) if rings else []
+                more_loops = [frame.loop_to_world(L.to_loop()) for L in more]
+                groups.append((rest, sub, more, more_loops, _assemble(more_loops, tol)))
+            # Each group's result is checked as its path's would be (`_guard.containment_problems`).
+            members = []
+            for G, how, dl, lp, geom in groups:
+                part = Tightening(loops=lp, geometry=geom, r=r, init=init.value, tolerance=tol,
+                                  shape=frame.to_world(G), converged=all(L.converged for L in dl))
+                general = isinstance(how, _Context)
+                part._cache.update(_exact=(how if general else None, dl, (G, r_l, tol_l, precision)),
+                                   _frame=frame, _path="general" if general else how)
+                members.append(part)
+            disk_loops = [L for g in groups for L in g[2]]
+            loops = [L for g in groups for L in g[3]]
+            # The groups' tightenings lie in their fillets, which are disjoint: their parts side by side.
+            polygons = [P for g in groups for P in shapely.get_parts(g[4]) if not P.is_empty]
+            geometry = polygons[0] if len(polygons) == 1 else MultiPolygon(polygons)
+            fast, path = disk_loops, "split"
     if fast is None:
         ctx = _Context(S_local, r_l, tol_l, precision)
         rings = _initial_rings(ctx, S_local, init)
@@ -1821,4 +1916,6 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
     result._cache["_exact"] = (ctx, disk_loops, (S_local, r_l, tol_l, precision))
     result._cache["_frame"] = frame
     result._cache["_path"] = path if fast is not None else "general"
+    if path == "split" and fast is not None:
+        result._cache["_members"] = members
     return result
