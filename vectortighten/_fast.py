@@ -129,6 +129,7 @@ class _Rings:
         self.t = self.rv * np.tan(np.abs(self.theta) / 2)
         self.length = self.ell - self.t - self._succ(self.t)            # straight piece on edge i
         self.phi = np.arctan2(uy, ux)
+        self.bridged = np.zeros(0, dtype=np.int64)     # edges whose step a bridge crosses (`_bridge_steps`)
         self._offsets, self._arcs = {}, {}
         self._sagitta = None
 
@@ -226,14 +227,15 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
     if not D.ok or (np.abs(D.theta) > math.pi - 1e-6).any():
         # A spike: no disk fits its corner (kept sharp by a radius 0, its two sides would touch).
         return None
-    if (D.length < -1e-12 * np.maximum(D.ell, r)).any():
+    if (D.length < -1e-12 * np.maximum(D.ell, r)).any() and (D.pair or not _bridge_steps(D)):
         return None                                     # two disks do not fit on one edge
     length = np.maximum(D.length, 0.0)
     shapely.prepare(S)
     # A side of radius 0 (two radii) keeps its corners sharp: its shrink (grow) is S itself, which the
-    # straight pieces lie on and the other side's arcs stay out of; nothing to check there.
-    certified = {side: True if D.pair and D.radius(side) == 0 else _offset_certified(D, S, side)
-                 for side in (1, -1)}
+    # straight pieces lie on and the other side's arcs stay out of; nothing to check there. The
+    # certificates read the offset curves of disks at S's vertices: not where a step was bridged.
+    certified = {side: True if D.pair and D.radius(side) == 0 else
+                 (not len(D.bridged) and _offset_certified(D, S, side)) for side in (1, -1)}
     # A certified side's offset curves lie wholly in S (+1) or outside it (−1), and its centres with them.
     open_ = np.flatnonzero([not certified[s] for s in D.side.astype(int)]) if not all(certified.values()) \
         else np.zeros(0, np.int64)
@@ -264,9 +266,153 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
             return None
         if edges and not _reaches_edges(D, S, side):
             return None
+    if len(D.bridged) and not _bridges_clear(D):
+        return None
     if D.pair:
         return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl], D.rv[sl]) for sl in D.slices]
     return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl]) for sl in D.slices]
+
+
+# -- steps: a convex and a reflex corner closer than their disks' tangents ---------------------------------
+# An edge between a convex and a reflex corner (a step in a wall) shorter than the two tangent lengths
+# r·tan(θ/2) at its ends: the tight loop does not run along it but crosses it, on the inner tangent of the
+# two corner disks (a bridge, turning one way and then the other). A corner whose own tangent is longer
+# than the edge has no disk touching both its edges: its disk slides along the other edge until it meets
+# the far end of the step (the core's corner there is tangent to the edge before the step and passes
+# through the step's reflex end; the anticore's likewise on the other side). The offset curves change with
+# it: the offset of the stepped edge on that side is gone, and the arc about the far end starts (ends) at
+# the moved centre. Steps next to another short edge are left to the general engine.
+
+def _bridge_steps(D: _Rings) -> bool:
+    """Bridge every step of S (see above) in place: centres, lengths, turns, offsets, arcs; False if some
+    short edge is not an isolated step (or a bridge does not fit), and the general engine must take S."""
+    r = D.r
+    bad = np.flatnonzero(D.length < -1e-12 * np.maximum(D.ell, r))
+    nxt, prv = D.next[bad], D.prev[bad]
+    if ((D.side[bad] == D.side[nxt]).any() or np.isin(nxt, bad).any() or np.isin(prv, bad).any()
+            or (prv == D.next[nxt]).any()):
+        return False
+    arcs = {side: tuple(a.copy() for a in D.arcs(side)) for side in (1, -1)}  # about the original corners
+    moved = {}
+    for i, j in zip(bad.tolist(), nxt.tolist()):
+        h, k = int(D.prev[i]), int(D.next[j])
+        if D.t[i] > D.ell[i]:
+            # Corner i's disk slides forward along edge h's offset until it meets vertex j.
+            base = D.v[i] + D.side[i] * r * D.n[h]
+            x = _circle_hit(base, D.u[h], D.v[j], r, first=True)
+            if x is None or x > 0:
+                return False
+            D.c[i] = base + x * D.u[h]
+            D.length[h] = D.ell[h] - D.t[h] + x
+            moved[i] = j
+        if D.t[j] > D.ell[i]:
+            # Corner j's disk slides back along edge j's offset until it meets vertex i.
+            base = D.v[j] + D.side[j] * r * D.n[j]
+            x = _circle_hit(base, D.u[j], D.v[i], r, first=False)
+            if x is None or x < 0:
+                return False
+            D.c[j] = base + x * D.u[j]
+            D.length[j] = D.ell[j] - x - D.t[k]
+            moved[j] = i
+        if D.length[h] < 0 or D.length[j] < 0:
+            return False
+        w = D.c[j] - D.c[i]
+        d = math.hypot(w[0], w[1])
+        if not d > 2.0 * r * (1 + 1e-9):
+            return False
+        # The inner tangent: its normal meets w at asin(2r/d), on the side of disk i.
+        phi = math.atan2(w[1], w[0]) + D.side[i] * math.asin(2.0 * r / d)
+        turn_i = _wrap(phi - D.phi[h])
+        turn_j = _wrap(D.phi[j] - phi)
+        if not (turn_i * D.side[i] > 0 and turn_j * D.side[j] > 0):
+            return False
+        D.phi[i], D.theta[i], D.theta[j] = phi, turn_i, turn_j
+        D.length[i] = math.sqrt(d * d - 4.0 * r * r)
+    D.bridged = bad
+    D._sagitta = None
+    # The offset curves: the stepped edge's offset is gone on a side whose disk moved (a point at the
+    # centre), and the arc about the step's other end starts or ends at the moved centre.
+    for side in (1, -1):
+        a, b = D._offset_ends(side)
+        centres, start, sweep = arcs[side]
+        k_of = {int(v): n for n, v in enumerate(np.flatnonzero(D.side != side))}
+        for i in bad.tolist():
+            j = int(D.next[i])
+            mine, far = (i, j) if D.side[i] == side else (j, i)
+            if mine not in moved:
+                continue
+            a[i] = b[i] = D.c[mine]
+            n = k_of[far]
+            ang = math.atan2(*(D.c[mine] - D.v[far])[::-1])
+            if mine == i:                       # the arc about j begins where centre i meets it
+                cut = _wrap(ang - start[n])
+                if cut * sweep[n] < 0 or abs(cut) > abs(sweep[n]):
+                    return False
+                start[n], sweep[n] = ang, sweep[n] - cut
+            else:                               # the arc about i ends where centre j meets it
+                keep = _wrap(ang - start[n])
+                if keep * sweep[n] < 0 or abs(keep) > abs(sweep[n]):
+                    return False
+                sweep[n] = keep
+        D._arcs[side] = (centres, start, sweep)
+    return True
+
+
+def _wrap(a: float) -> float:
+    """An angle in (−π, π]."""
+    return math.remainder(a, _TWO_PI)
+
+
+def _circle_hit(base: np.ndarray, u: np.ndarray, x: np.ndarray, r: float, first: bool):
+    """Where the line ``base + s·u`` (u a unit vector) meets the circle of radius r about x: the smaller
+    s (``first``) or the larger, or None if it misses."""
+    w = base - x
+    b = float(w @ u)
+    disc = b * b - (float(w @ w) - r * r)
+    if disc < 0:
+        return None
+    root = math.sqrt(disc)
+    return -b - root if first else -b + root
+
+
+def _bridges_clear(D: _Rings) -> bool:
+    """No bridge comes nearer than r to the shrink's boundary or the grow's, but where it is tangent to its
+    own two disks: exact distances to every piece of both sides' offset curves (`_pieces`)."""
+    from ._pieces import piece_distance, piece_distances
+
+    r, i = D.r, D.bridged
+    j = D.next[i]
+    nrm = np.column_stack([-np.sin(D.phi[i]), np.cos(D.phi[i])])
+    P = D.c[i] - (D.side[i] * r)[:, None] * nrm
+    Q = D.c[j] - (D.side[j] * r)[:, None] * nrm
+    limit = r - D.tie
+    rows, kinds = [], []
+    for side in (1, -1):
+        a, b = D._offset_ends(side)
+        rows.append(np.column_stack([a, b, np.zeros(len(a))]))
+        kinds.append(np.zeros(len(a), bool))
+        centres, start, sweep = D.arcs(side)
+        rows.append(np.column_stack([centres, np.full(len(centres), r), start, sweep]))
+        kinds.append(np.ones(len(centres), bool))
+    pieces, arc = np.concatenate(rows), np.concatenate(kinds)
+    # Each piece's bounding circle: an arc's own, a segment's about its middle.
+    pc = np.where(arc[:, None], pieces[:, :2], 0.5 * (pieces[:, :2] + pieces[:, 2:4]))
+    pr = np.where(arc, r, 0.5 * np.hypot(pieces[:, 2] - pieces[:, 0], pieces[:, 3] - pieces[:, 1]))
+    for p, q in zip(P, Q):
+        seg = np.array([p[0], p[1], q[0], q[1], 0.0])
+        # Pieces whose bounding circle stays farther than r from the bridge need no distance.
+        mid = 0.5 * (p + q)
+        half = 0.5 * math.hypot(*(q - p))
+        near = np.flatnonzero(np.hypot(*(pc - mid).T) <= limit + half + pr + 1e-9 * r)
+        if not len(near):
+            continue
+        d = piece_distances(np.zeros(len(near), bool), np.tile(seg, (len(near), 1)), arc[near], pieces[near])
+        for m in near[~(d >= limit + 1e-9 * r)].tolist():
+            other = ("arc", (pieces[m, :2], r, pieces[m, 3], pieces[m, 4])) if arc[m] else \
+                ("seg", (pieces[m, :2], pieces[m, 2:4]))
+            if piece_distance(("seg", (p, q)), other)[0] < limit:
+                return False
+    return True
 
 
 # -- certificates: the offset curves do not touch themselves ---------------------------------------------
@@ -992,6 +1138,7 @@ def _reaches_edges(D: _Rings, S, side: int) -> bool:
     """
     r = D.radius(side)
     keep = D.length > 0
+    keep[D.bridged] = False                             # a bridge between two disks is not on an edge
     if not keep.any():
         return True
     own = D.rv[keep] if D.pair else r                   # the radius of each piece's first disk

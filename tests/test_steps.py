@@ -1,0 +1,119 @@
+"""Steps in a wall (a convex and a reflex corner closer than their disks' tangents) on the fast path
+(`_fast._bridge_steps`): the loop crosses the step on the inner tangent of the two corner disks, a disk
+whose tangent is longer than the step slides to the step's far end, and the answer is the general
+engine's."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+import shapely
+import shapely.affinity
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from shapely.geometry import Polygon
+
+import vectortighten as vt
+from vectortighten import engine
+
+from .oracle import judge
+
+
+def _general(S, r, init="core"):
+    S = vt._validation.check_shape(S)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return engine._tighten(S, r, engine.Init(init), 1e-5 * r, allow_fast=False)
+
+
+def _same(T, G):
+    assert len(T.loops) == len(G.loops)
+    assert T.perimeter == pytest.approx(G.perimeter, rel=1e-10)
+    assert T.area == pytest.approx(G.area, rel=1e-10)
+    assert T.geometry.symmetric_difference(G.geometry).area <= 1e-9 * G.area
+
+
+def _exact(S, r, T):
+    J = judge(S, r, T.loops, T.geometry)
+    assert J.core_penetration <= 1e-9 * r and J.anticore_penetration <= 1e-9 * r
+    assert J.core_missing == 0 and J.anticore_covered == 0
+
+
+def _centres(T):
+    _, disk_loops, _ = T._cache["_exact"]
+    frame = T._cache["_frame"]
+    return np.concatenate([frame.scale * L.c + (frame.ox, frame.oy) for L in disk_loops])
+
+
+@pytest.mark.parametrize("h", [0.3, 0.05, 1.2])
+@pytest.mark.parametrize("init", ["core", "input", "mason"])
+def test_a_right_angled_step_lower_than_r(h, init):
+    # A wall along y = 0 that steps up by h at x = 0. Below r, the core's corner disk, tangent to y = 0
+    # and through the step's top (0, h), has its centre at (−√(2rh − h²), r); the anticore's, tangent to
+    # y = h from below and through (0, 0), at (√(2rh − h²), h − r). From r to 2r each corner keeps the disk
+    # touching both its edges, centred r from the step. The loop crosses the step between them.
+    r = 1.0
+    S = Polygon([(-10, 0), (0, 0), (0, h), (10, h), (10, 10), (-10, 10)])
+    T = vt.tighten(S, r, init=init)
+    assert T._cache["_path"] == "fast" and T.verify() == []
+    a = math.sqrt(2 * r * h - h * h) if h < r else r
+    c = _centres(T)
+    for x, y in ((-a, r), (a, h - r)):
+        assert np.hypot(c[:, 0] - x, c[:, 1] - y).min() < 1e-12
+    _same(T, _general(S, r, init))
+    _exact(S, r, T)
+
+
+def test_a_gentle_step_keeps_its_corner_disks():
+    # 30° turns: each tangent r·tan(15°) fits on the 0.4-long step, but not both; the disks stay where
+    # they touch both edges, and only the piece between them changes (an inner tangent).
+    r, L = 1.0, 0.4
+    x, y = L * math.cos(math.pi / 6), L * math.sin(math.pi / 6)
+    S = Polygon([(-10, 0), (0, 0), (x, y), (10, y), (10, 10), (-10, 10)])
+    assert r * math.tan(math.pi / 12) < L < 2 * r * math.tan(math.pi / 12)
+    T = vt.tighten(S, r)
+    assert T._cache["_path"] == "fast" and T.verify() == []
+    c = _centres(T)
+    t = r * math.tan(math.pi / 12)
+    for cx, cy in ((-t, r), (x + t, y - r)):
+        assert np.hypot(c[:, 0] - cx, c[:, 1] - cy).min() < 1e-12
+    _same(T, _general(S, r))
+    _exact(S, r, T)
+
+
+def test_a_step_beside_another_short_edge_goes_to_the_general_engine():
+    # A notch 0.5 wide and deep: three short edges in a row.
+    S = Polygon([(0, 0), (5, 0), (5, 0.5), (5.5, 0.5), (5.5, 0), (10, 0), (10, 10), (0, 10)])
+    assert vt.tighten(S, 1.0)._cache["_path"] == "general"
+
+
+@st.composite
+def stepped_walls(draw):
+    """A block whose lower wall has 1–5 steps up or down (heights 0.05r–1.8r, slanted forward or back by up
+    to 0.4 of their height: turns of 68°–112°, tangents up to 1.5r), 4r–7r apart so that each is isolated,
+    turned by a random angle; r = 1."""
+    k = draw(st.integers(1, 5))
+    pts, x, y = [(0.0, 0.0)], 0.0, 0.0
+    for _ in range(k):
+        x += draw(st.floats(4.0, 7.0))
+        pts.append((x, y))
+        h = draw(st.floats(0.05, 1.8))
+        x += h * draw(st.floats(-0.4, 0.4))
+        y += h * draw(st.sampled_from([-1.0, 1.0]))
+        pts.append((x, y))
+    x += draw(st.floats(4.0, 7.0))
+    pts += [(x, y), (x, 12.0), (0.0, 12.0)]
+    S = Polygon(pts)
+    return shapely.affinity.rotate(S, draw(st.floats(0, 360)), origin=(0, 0)) if S.is_valid else None
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(S=stepped_walls(), init=st.sampled_from(["core", "input", "mason"]))
+def test_bridged_results_are_the_general_engines(S, init):
+    if S is None:
+        return
+    T = vt.tighten(S, 1.0, init=init)
+    assert T._cache["_path"] == "fast" and T.verify() == []
+    _same(T, _general(S, 1.0, init))
+    _exact(S, 1.0, T)
