@@ -395,23 +395,27 @@ def _bridges_clear(D: _Rings) -> bool:
         rows.append(np.column_stack([centres, np.full(len(centres), r), start, sweep]))
         kinds.append(np.ones(len(centres), bool))
     pieces, arc = np.concatenate(rows), np.concatenate(kinds)
-    # Each piece's bounding circle: an arc's own, a segment's about its middle.
-    pc = np.where(arc[:, None], pieces[:, :2], 0.5 * (pieces[:, :2] + pieces[:, 2:4]))
-    pr = np.where(arc, r, 0.5 * np.hypot(pieces[:, 2] - pieces[:, 0], pieces[:, 3] - pieces[:, 1]))
-    for p, q in zip(P, Q):
-        seg = np.array([p[0], p[1], q[0], q[1], 0.0])
-        # Pieces whose bounding circle stays farther than r from the bridge need no distance.
-        mid = 0.5 * (p + q)
-        half = 0.5 * math.hypot(*(q - p))
-        near = np.flatnonzero(np.hypot(*(pc - mid).T) <= limit + half + pr + 1e-9 * r)
-        if not len(near):
-            continue
-        d = piece_distances(np.zeros(len(near), bool), np.tile(seg, (len(near), 1)), arc[near], pieces[near])
-        for m in near[~(d >= limit + 1e-9 * r)].tolist():
-            other = ("arc", (pieces[m, :2], r, pieces[m, 3], pieces[m, 4])) if arc[m] else \
-                ("seg", (pieces[m, :2], pieces[m, 2:4]))
-            if piece_distance(("seg", (p, q)), other)[0] < limit:
-                return False
+    # Candidates from an R-tree: the segments themselves, each arc by its circle's box.
+    box = shapely.box(pieces[:, 0] - r, pieces[:, 1] - r, pieces[:, 0] + r, pieces[:, 1] + r)
+    point = ~arc & (pieces[:, 0] == pieces[:, 2]) & (pieces[:, 1] == pieces[:, 3])   # a trimmed offset
+    geoms = np.where(arc, box, np.where(point, shapely.points(pieces[:, :2]),
+                                        shapely.linestrings(pieces[:, :4].reshape(-1, 2, 2))))
+    bi, m = shapely.STRtree(geoms).query(shapely.linestrings(np.stack([P, Q], axis=1)), predicate="dwithin",
+                                         distance=limit + 1e-9 * r)
+    if not len(bi):
+        return True
+    seg = np.column_stack([P[bi], Q[bi], np.zeros(len(bi))])
+    d = piece_distances(np.zeros(len(bi), bool), seg, arc[m], pieces[m])
+    # The vectorised distances are right to a few ulps of the coordinates: those clearly at least the
+    # limit are set aside (a bridge rests on its own disks' pieces at r, a tie above r − tie), the others
+    # are decided by the closed form, one by one.
+    size = 1.0 + r + float(np.abs(pieces[:, :2]).max())
+    doubt = ~(d >= limit + 8 * np.finfo(float).eps * size)
+    for b, k in zip(bi[doubt].tolist(), m[doubt].tolist()):
+        other = ("arc", (pieces[k, :2], r, pieces[k, 3], pieces[k, 4])) if arc[k] else \
+            ("seg", (pieces[k, :2], pieces[k, 2:4]))
+        if piece_distance(("seg", (P[b], Q[b])), other)[0] < limit:
+            return False
     return True
 
 

@@ -1638,6 +1638,15 @@ def _assemble(loops: list[Loop], tol: float):
     return _assemble_valid(loops, tol)[0]
 
 
+def _three_distinct(c: np.ndarray) -> bool:
+    """Whether the points ``c`` (n, 2) hold at least three distinct ones (one pass, no sort)."""
+    other = (c != c[0]).any(axis=1)
+    if not other.any():
+        return False
+    second = c[int(np.argmax(other))]
+    return bool((other & (c != second).any(axis=1)).any())
+
+
 def _assemble_valid(loops: list[Loop], tol: float):
     """Make `_assemble`'s geometry, and tell whether it is known to be valid.
 
@@ -1648,7 +1657,7 @@ def _assemble_valid(loops: list[Loop], tol: float):
     ring = [lp.sample(tol) if s else None for lp, s in zip(loops, sign, strict=True)]
     # A loop sampled to fewer than three points (a lens of two arcs, each within ``tol`` of its chord)
     # is narrower than 2·tol: left out, as chords within ``tol`` would.
-    sign = [s if s == 0 or len(np.unique(c, axis=0)) >= 3 else 0 for s, c in zip(sign, ring, strict=True)]
+    sign = [s if s == 0 or _three_distinct(c) else 0 for s, c in zip(sign, ring, strict=True)]
     outers = [(k, Polygon(ring[k])) for k in range(len(loops)) if sign[k] > 0]
     holes = [(k, Polygon(ring[k])) for k in range(len(loops)) if sign[k] < 0]
     if not outers:
