@@ -6,6 +6,14 @@ the anticore elsewhere, the tight loop of each ring of S is that ring with every
 arc of its disk. This is checked, vectorised, in a few passes over the vertices; no triangulation is built.
 When any check fails the caller falls back to the general engine.
 
+Steps in a wall — an edge between a convex and a reflex corner too short for both tangents, the commonest
+shape of building footprints and CAD outlines — are taken too (`_bridge_steps`): the loop crosses such a
+step on the inner tangent of its two corner disks, each disk where it touches both its edges, or, when its
+own tangent is longer than the step, slid along the other edge until it meets the step's far end. The
+same exact tests then run on the moved disks and the trimmed offset curves, and each bridge is measured
+exactly against both offset curves (`_bridges_clear`). Two short edges in a row (a notch) go to the
+general engine.
+
 Why the checks suffice: the straight pieces lie on the boundary of S, which never meets the (open) core or
 anticore; a valid disk at a convex vertex lies in S, so its arc cannot enter the anticore, and an arc that
 does not enter the core lies on its boundary (and symmetrically at reflex vertices). The region between
