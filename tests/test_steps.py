@@ -117,3 +117,21 @@ def test_bridged_results_are_the_general_engines(S, init):
     assert T._cache["_path"] == "fast" and T.verify() == []
     _same(T, _general(S, 1.0, init))
     _exact(S, 1.0, T)
+
+
+def test_a_slid_disk_at_a_grazing_angle_passes_the_final_check():
+    # A star whose step has a convex corner with a tangent longer than the step: its disk slides until it
+    # meets the reflex end, where the edge's offset meets that vertex's circle at a grazing angle. The
+    # final check's coarse shrink misplaces that corner by its chord's sagitta / sin(angle); the finer
+    # check it falls back on passes the exact answer.
+    S = Polygon([(9.593353847388743, 2.8051239193500965), (2.477544273894597, -6.502111992421594),
+                 (2.1525955523651894, -5.978719546634362), (-9.023389714627127, -0.8715879061864402),
+                 (-7.8763066249148945, 5.105097678900334), (-7.3178190548564865, 6.586034935054179),
+                 (-1.4743194611653663, 6.443160875529573), (5.099590617529096, 1.7973554079537892),
+                 (7.545725370548143, 2.3868017235700805)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        T = vt.tighten(S, 0.6)
+    assert T._cache["_path"] == "fast" and T.converged and T.verify() == []
+    _same(T, _general(S, 0.6))
+    _exact(S, 0.6, T)

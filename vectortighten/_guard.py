@@ -32,8 +32,13 @@ __all__ = ["containment_problems", "drop_specks", "guarded_tighten", "vanishes"]
 #: An arc that turns by less than this (radians) and is shorter than a speck is a speck.
 _SPECK_TURN = 1e-9
 
-#: Chords a quarter circle of the coarse buffers that check a result of the fast path.
+#: Chords a quarter circle of the coarse buffers that check a result of the fast path; where they flag
+#: one, the check is made again with the finer ones before it counts. A corner of the coarse shrink where an
+#: offset line meets a chord of a concave arc at a grazing angle α lies off the exact corner by the chord's
+#: sagitta over sin α (a step's slid disk, tangent to an edge and through a vertex, is such a corner): the
+#: area that misplaces falls with the square of the sagitta.
 _COARSE_QUAD_SEGS = 4
+_FINER_QUAD_SEGS = 32
 
 #: A violation of the containment smaller than this share of r² is within rounding of the overlays.
 _AREA_R2 = 1e-3
@@ -182,6 +187,15 @@ def containment_problems(result) -> list[str]:
     if "_members" in cache:
         # Far-apart groups of parts tightened alone (`engine._split_fast`): each checked as its path's.
         return [p for part in cache["_members"] for p in containment_problems(part)]
+    problems = _containment_problems(result, _COARSE_QUAD_SEGS)
+    if problems and cache.get("_path") in ("fast", "convex"):
+        problems = _containment_problems(result, _FINER_QUAD_SEGS)
+    return problems
+
+
+def _containment_problems(result, q: int) -> list[str]:
+    """`containment_problems` with q chords a quarter circle in the fast path's coarse buffers."""
+    cache = result._cache
     frame = cache.get("_frame")
     exact = cache.get("_exact")
     ctx = exact[0] if exact is not None else None
@@ -203,7 +217,6 @@ def containment_problems(result) -> list[str]:
             tol = result.tolerance / frame.scale
         else:
             r, tol = result.r, result.tolerance
-        q = _COARSE_QUAD_SEGS
         R = shapely.intersection(S.buffer(-r, quad_segs=q).buffer(r, quad_segs=q), S)
         F = shapely.union(S.buffer(r, quad_segs=q).buffer(-r, quad_segs=q), S)
         slack = tol + 2.0 * r * (1.0 - math.cos(math.pi / (4 * q))) + 2.0 * THICKEN_R * r
