@@ -135,3 +135,21 @@ def test_a_slid_disk_at_a_grazing_angle_passes_the_final_check():
     assert T._cache["_path"] == "fast" and T.converged and T.verify() == []
     _same(T, _general(S, 0.6))
     _exact(S, 0.6, T)
+
+
+def test_two_steps_in_a_row_before_a_corner():
+    # Turns of +30° and −30° on edges of 0.5 and 0.7, then the block's right-angled corner: both edges
+    # are steps (their tangents overlap); the middle corner's disk touches both, the corner's slides back
+    # along the wall above it until it meets the middle vertex.
+    r = 1.0
+    a = (0.5 * math.cos(math.pi / 6), 0.5 * math.sin(math.pi / 6))
+    b = (a[0] + 0.7, a[1])
+    S = Polygon([(-10, 0), (0, 0), a, b, (b[0], 10), (-10, 10)])
+    T = vt.tighten(S, r)
+    assert T._cache["_path"] == "fast" and T.verify() == []
+    x = b[0] - r                                    # the slid disk: r left of the wall x = b[0] ...
+    y = a[1] + math.sqrt(r * r - (x - a[0]) ** 2)  # ... and r from the middle vertex
+    c = _centres(T)
+    assert np.hypot(c[:, 0] - x, c[:, 1] - y).min() < 1e-12
+    _same(T, _general(S, r))
+    _exact(S, r, T)

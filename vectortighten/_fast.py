@@ -11,8 +11,9 @@ shape of building footprints and CAD outlines — are taken too (`_bridge_steps`
 step on the inner tangent of its two corner disks, each disk where it touches both its edges, or, when its
 own tangent is longer than the step, slid along the other edge until it meets the step's far end. The
 same exact tests then run on the moved disks and the trimmed offset curves, and each bridge is measured
-exactly against both offset curves (`_bridges_clear`). Two short edges in a row (a notch) go to the
-general engine.
+exactly against both offset curves (`_bridges_clear`). Steps may follow one another (a jog just before a
+corner) as long as no disk has to slide along a step; a short edge between two corners of the same side
+(a notch's floor, a small bevel) goes to the general engine.
 
 Why the checks suffice: the straight pieces lie on the boundary of S, which never meets the (open) core or
 anticore; a valid disk at a convex vertex lies in S, so its arc cannot enter the anticore, and an arc that
@@ -289,53 +290,64 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
 # the far end of the step (the core's corner there is tangent to the edge before the step and passes
 # through the step's reflex end; the anticore's likewise on the other side). The offset curves change with
 # it: the offset of the stepped edge on that side is gone, and the arc about the far end starts (ends) at
-# the moved centre. Steps next to another short edge are left to the general engine.
+# the moved centre. A disk that would have to slide along a step, and a short edge between corners of the
+# same side, are left to the general engine.
 
 def _bridge_steps(D: _Rings) -> bool:
     """Bridge every step of S (see above) in place: centres, lengths, turns, offsets, arcs; False if some
-    short edge is not an isolated step (or a bridge does not fit), and the general engine must take S."""
+    short edge is not a step (or a bridge does not fit), and the general engine must take S."""
     r = D.r
-    bad = np.flatnonzero(D.length < -1e-12 * np.maximum(D.ell, r))
-    nxt, prv = D.next[bad], D.prev[bad]
-    if ((D.side[bad] == D.side[nxt]).any() or np.isin(nxt, bad).any() or np.isin(prv, bad).any()
-            or (prv == D.next[nxt]).any()):
+    short = D.length < -1e-12 * np.maximum(D.ell, r)
+    bad = np.flatnonzero(short)
+    nxt = D.next[bad]
+    if (D.side[bad] == D.side[nxt]).any() or any(short[sl].all() for sl in D.slices):
         return False
     arcs = {side: tuple(a.copy() for a in D.arcs(side)) for side in (1, -1)}  # about the original corners
+    # Where each edge's straight piece starts and ends, as distances from its two vertices.
+    foot_start, foot_end = D.t.copy(), D._succ(D.t)
     moved = {}
     for i, j in zip(bad.tolist(), nxt.tolist()):
-        h, k = int(D.prev[i]), int(D.next[j])
+        h = int(D.prev[i])
         if D.t[i] > D.ell[i]:
-            # Corner i's disk slides forward along edge h's offset until it meets vertex j.
+            # Corner i's disk slides forward along edge h's offset until it meets vertex j; it cannot
+            # when edge h is a step too.
             base = D.v[i] + D.side[i] * r * D.n[h]
-            x = _circle_hit(base, D.u[h], D.v[j], r, first=True)
+            x = None if short[h] else _circle_hit(base, D.u[h], D.v[j], r, first=True)
             if x is None or x > 0:
                 return False
             D.c[i] = base + x * D.u[h]
-            D.length[h] = D.ell[h] - D.t[h] + x
+            foot_end[h] = -x
             moved[i] = j
         if D.t[j] > D.ell[i]:
             # Corner j's disk slides back along edge j's offset until it meets vertex i.
             base = D.v[j] + D.side[j] * r * D.n[j]
-            x = _circle_hit(base, D.u[j], D.v[i], r, first=False)
+            x = None if short[j] else _circle_hit(base, D.u[j], D.v[i], r, first=False)
             if x is None or x < 0:
                 return False
             D.c[j] = base + x * D.u[j]
-            D.length[j] = D.ell[j] - x - D.t[k]
+            foot_start[j] = x
             moved[j] = i
-        if D.length[h] < 0 or D.length[j] < 0:
-            return False
+    # The straight pieces next to the steps, with their moved ends; then each bridge: the inner tangent
+    # of its two disks, whose normal meets the line of centres at asin(2r/d), on the side of the first.
+    near = np.unique(np.concatenate([D.prev[bad], nxt]))
+    near = near[~short[near]]
+    D.length[near] = D.ell[near] - foot_start[near] - foot_end[near]
+    if (D.length[near] < 0).any():
+        return False
+    for i, j in zip(bad.tolist(), nxt.tolist()):
         w = D.c[j] - D.c[i]
         d = math.hypot(w[0], w[1])
         if not d > 2.0 * r * (1 + 1e-9):
             return False
-        # The inner tangent: its normal meets w at asin(2r/d), on the side of disk i.
-        phi = math.atan2(w[1], w[0]) + D.side[i] * math.asin(2.0 * r / d)
-        turn_i = _wrap(phi - D.phi[h])
-        turn_j = _wrap(D.phi[j] - phi)
-        if not (turn_i * D.side[i] > 0 and turn_j * D.side[j] > 0):
-            return False
-        D.phi[i], D.theta[i], D.theta[j] = phi, turn_i, turn_j
+        D.phi[i] = math.atan2(w[1], w[0]) + D.side[i] * math.asin(2.0 * r / d)
         D.length[i] = math.sqrt(d * d - 4.0 * r * r)
+    # The turn at every corner a bridge leaves or reaches, from the directions it now joins.
+    ends = np.unique(np.concatenate([bad, nxt]))
+    for v in ends.tolist():
+        turn = _wrap(D.phi[v] - D.phi[D.prev[v]])
+        if not turn * D.side[v] > 0:
+            return False
+        D.theta[v] = turn
     D.bridged = bad
     D._sagitta = None
     # The offset curves: the stepped edge's offset is gone on a side whose disk moved (a point at the
