@@ -1244,60 +1244,72 @@ def _exact_depths(ctx: _Context, L: _DiskLoop, limit: float = 0.0) -> tuple[floa
     is then solved in closed form (`_pieces.piece_distance`). Depths of at most ``limit`` are reported as
     0. A piece lying wholly inside a region is caught by its middle.
     """
+    return _exact_depths_many(ctx, [L], limit)[0]
+
+
+def _exact_depths_many(ctx: _Context, loops: list[_DiskLoop], limit: float = 0.0) -> list[tuple[float, float]]:
+    """`_exact_depths` of every loop, with one query of the obstacle index for all of them."""
     r = ctx.r
-    depth = {1: 0.0, -1: 0.0}
-    pieces = [(k, g) for k, g, length in L.pieces() if length > 0 or k == "arc"]
-    if not pieces:
-        return 0.0, 0.0
+    depth = [{1: 0.0, -1: 0.0} for _ in loops]
     step = math.pi / 64
     sag = r * (1.0 - math.cos(0.5 * step))
+    pieces, loop_of, allow = [], [], []
     mids, cp, cq, owner = [], [], [], []
-    for n, (kind, g) in enumerate(pieces):
-        if kind == "seg":
-            p, q = g
-            mids.append(0.5 * (p + q))
-            cp.append(p[None]), cq.append(q[None]), owner.append(n)
-        else:
-            c, rr, a0, sw = g
-            m = max(1, int(math.ceil(abs(sw) / step)))
-            th = a0 + sw * np.linspace(0.0, 1.0, m + 1)
-            pts = np.column_stack([c[0] + rr * np.cos(th), c[1] + rr * np.sin(th)])
-            mids.append(pts[m // 2] if m > 1 else 0.5 * (pts[0] + pts[-1]))
-            cp.append(pts[:-1]), cq.append(pts[1:])
-            owner += [n] * m
+    for k, L in enumerate(loops):
+        mine = [(kind, g) for kind, g, length in L.pieces() if length > 0 or kind == "arc"]
+        if not mine:
+            continue
+        # A loop's disk may sit off the exact corner it stands for by that corner's own rounding (the
+        # fast path solves corners from S's vertices; an acute corner's position is ill-conditioned):
+        # that offset, up to CENTRE_ROUNDING_R·r or a thousand times the coordinates' precision, moves
+        # the disk's pieces as much and is not an entry.
+        off = np.zeros(L.n)
+        if ctx.ckd is not None and L.n:
+            d, _ = ctx.ckd.query(L.c)
+            off = np.where(d <= max(CENTRE_ROUNDING_R * r, 1e3 * ctx.precision), d, 0.0)
+        for d_i, (kind, g, length) in enumerate(L.pieces()):
+            if not (length > 0 or kind == "arc"):
+                continue
+            disk = d_i // 2
+            allow.append(off[disk] if kind == "arc" else max(off[disk], off[(disk + 1) % L.n]))
+        for kind, g in mine:
+            n = len(pieces)
+            if kind == "seg":
+                p, q = g
+                mids.append(0.5 * (p + q))
+                cp.append(p[None]), cq.append(q[None]), owner.append(n)
+            else:
+                c, rr, a0, sw = g
+                m = max(1, int(math.ceil(abs(sw) / step)))
+                th = a0 + sw * np.linspace(0.0, 1.0, m + 1)
+                pts = np.column_stack([c[0] + rr * np.cos(th), c[1] + rr * np.sin(th)])
+                mids.append(pts[m // 2] if m > 1 else 0.5 * (pts[0] + pts[-1]))
+                cp.append(pts[:-1]), cq.append(pts[1:])
+                owner += [n] * m
+            pieces.append((kind, g))
+            loop_of.append(k)
+    if not pieces:
+        return [(0.0, 0.0) for _ in loops]
+    loop_of = np.array(loop_of, dtype=np.int64)
+    allow = np.array(allow)
     where = ctx.in_regions(np.array(mids))
     for s in (1, -1):
-        if (where == s).any():
-            depth[s] = ctx.radius_of(s)
+        for k in np.unique(loop_of[where == s]).tolist():
+            depth[k][s] = ctx.radius_of(s)
     if ctx.zero:
         # A radius 0: how far a straight piece enters that side's region, by its boundary chain
         # (`_zero_radius`); a piece lying inside it (its middle in the region) enters it wholly.
-        segs = [g for k, g in pieces if k == "seg"]
-        if segs:
-            P0, Q0 = (np.array([g[m] for g in segs]) for m in (0, 1))
-            deepest = max((d for _, _, d in zero_entries(ctx, P0, Q0, ctx.zero)), default=0.0)
-            depth[ctx.zero] = max(depth[ctx.zero], r if (where == ctx.zero).any() else 0.0,
-                                  deepest if deepest > limit else 0.0)
+        for k in range(len(loops)):
+            segs = [g for (kind, g), lk in zip(pieces, loop_of.tolist()) if kind == "seg" and lk == k]
+            if segs:
+                P0, Q0 = (np.array([g[m] for g in segs]) for m in (0, 1))
+                deepest = max((d for _, _, d in zero_entries(ctx, P0, Q0, ctx.zero)), default=0.0)
+                inside = bool((where[loop_of == k] == ctx.zero).any())
+                depth[k][ctx.zero] = max(depth[k][ctx.zero], r if inside else 0.0,
+                                         deepest if deepest > limit else 0.0)
     if len(ctx.oedges) == 0:
-        return depth[1], depth[-1]
+        return [(dk[1], dk[-1]) for dk in depth]
     owner = np.array(owner, dtype=np.int64)
-    # A loop's disk may sit off the exact corner it stands for by that corner's own rounding (the fast
-    # path solves corners from S's vertices; an acute corner's position is ill-conditioned): that offset,
-    # up to CENTRE_ROUNDING_R·r or a thousand times the coordinates' precision, moves the disk's pieces
-    # as much and is not an entry.
-    off = np.zeros(L.n)
-    if ctx.ckd is not None and L.n:
-        d, _ = ctx.ckd.query(L.c)
-        off = np.where(d <= max(CENTRE_ROUNDING_R * r, 1e3 * ctx.precision), d, 0.0)
-    allow = np.zeros(len(pieces))
-    n_disk = L.n
-    pi = 0
-    for d_i, (k, g, length) in enumerate(L.pieces()):
-        if not (length > 0 or k == "arc"):
-            continue
-        disk = d_i // 2
-        allow[pi] = off[disk] if k == "arc" else max(off[disk], off[(disk + 1) % n_disk])
-        pi += 1
     reach = r - limit + ctx.osag + sag + 1e-12 * r
     ci, ei = ctx.oindex.near_segments(np.concatenate(cp), np.concatenate(cq), reach)
     li, pj = owner[ci], ctx.opiece[ei]
@@ -1324,9 +1336,10 @@ def _exact_depths(ctx: _Context, L: _DiskLoop, limit: float = 0.0) -> tuple[floa
         side, piece = ctx.opieces[j]
         d, _, _ = piece_distance(pieces[i], piece)
         rad = r if not ctx.two else ctx.radius_of(side)
-        if rad - d - allow[i] > max(depth[side], limit):
-            depth[side] = rad - d - allow[i]
-    return depth[1], depth[-1]
+        dk = depth[loop_of[i]]
+        if rad - d - allow[i] > max(dk[side], limit):
+            dk[side] = rad - d - allow[i]
+    return [(dk[1], dk[-1]) for dk in depth]
 
 
 # ---------------------------------------------------------------------------------------------------------
@@ -1538,8 +1551,7 @@ class Tightening:
         ctx, disk_loops = self._exact_context()
         limit = max(VERIFY_DEPTH_R * ctx.r, 8.0 * ctx.precision)
         problems = []
-        for i, L in enumerate(disk_loops):
-            core, anti = _exact_depths(ctx, L, limit)
+        for i, (core, anti) in enumerate(_exact_depths_many(ctx, disk_loops, limit)):
             for name, d in (("core", core), ("anticore", anti)):
                 if d > limit:
                     problems.append(f"(e) loop {i} enters the open {name} by {d / ctx.r:.3g}·r (exact offsets)")
@@ -1896,7 +1908,15 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
                 more = _tighten_all(sub, rings) if rings else []
                 more_loops = [frame.loop_to_world(L.to_loop()) for L in more]
                 groups.append((rest, sub, more, more_loops, _assemble(more_loops, tol)))
-            # Each group's result is checked as its path's would be (`_guard.containment_problems`).
+            # Each group's result is checked and verified as its path's would be (`_guard.containment_problems`,
+            # `Tightening.verify`); the fast groups together, as one shape (one context, not one a group).
+            fast_groups = [g for g in groups if g[1] == "fast"]
+            if len(fast_groups) > 1:
+                parts = [P for g in fast_groups for P in shapely.get_parts(g[0])]
+                together = (MultiPolygon(parts), "fast", [L for g in fast_groups for L in g[2]],
+                            [L for g in fast_groups for L in g[3]],
+                            MultiPolygon([P for g in fast_groups for P in shapely.get_parts(g[4])]))
+                groups = [together] + [g for g in groups if g[1] != "fast"]
             members = []
             for G, how, dl, lp, geom in groups:
                 part = Tightening(loops=lp, geometry=geom, r=r, init=init.value, tolerance=tol,
