@@ -253,7 +253,7 @@ class _Elements:
     def __init__(self, S, r: float, side: int, precision: float | None = None):
         self.S, self.r, self.side = S, r, side
         a, b, prv, nxt = _edges(S)
-        self.a, self.b, self.nxt = a, b, nxt
+        self.a, self.b, self.prv, self.nxt = a, b, prv, nxt
         self.eps = max(precision_of(S), precision or 0.0)
         seg, N, turn, ai, arc_v, arc_a0, arc_sw = _elements(a, b, prv, nxt, r, side)
         self.seg, self.N, self.turn = seg, N, turn
@@ -503,6 +503,86 @@ def _uncovered(X, el, lo, hi, pi, pj):
 
 
 _MAX_ROUNDS = 400
+_PRUNE = True                   # drop the raw elements `_dominated` proves covered before the rounds
+_PRUNE_STEPS = 2                # neighbours on each side along the ring that `_dominated` tries at a time
+_PRUNE_SLACK = 4.0              # the margin of `_dominated`'s radius, in units of the precision
+
+
+def _dominated(X) -> np.ndarray:
+    """Raw elements that lie wholly inside the union of a few other edges' capsules, shrunk by a margin.
+
+    Such an element is at clearance below ``r − precision`` everywhere, by more than rounding can move it:
+    the rounds would cut all of it away, and none of the ends of its removed parts could pass the closed
+    rule. Dropping it first changes nothing else; on a dense outline (a pixel staircase, where r is many
+    pixels) nearly every element is such, and the rounds are left with the few near ``∂S↓r``.
+
+    The tests are sufficient, not necessary (an element they miss goes through the rounds as before), and
+    local along the ring, with a radius ``ρ = r − m``, ``m`` a few times the precision:
+
+    * a straight piece is covered when both its ends lie within ρ of one of the two edges before or after
+      its own (a capsule is convex);
+    * an arc about vertex v is covered by the ρ-disks about other arc vertices w: points of the arc at
+      angle θ within ``arccos((r² + |w − v|² − ρ²) / (2r|w − v|))`` of the direction of ``w − v`` lie
+      within ρ of w. Of each candidate's interval only what holds one end of the arc is used: the arc is
+      covered when what holds its start reaches what holds its end. The candidates are the nearest arc
+      vertices along the ring still undecided (`_PRUNE_STEPS` each side); a covered arc leaves the list,
+      its neighbours close up, and the test is repeated until nothing more goes. On a staircase this peels
+      the vertices off as a convex hull does, down to those whose arcs the offset keeps.
+
+    Returns a boolean mask over the elements (straight pieces, then arcs).
+    """
+    out = np.zeros(X.n_seg + X.n_arc, dtype=bool)
+    r = X.r
+    rho = r - _PRUNE_SLACK * X.eps
+    if X.n_seg == 0 or not rho > 0.5 * r:
+        return out
+    # Straight pieces: both ends in one capsule of a nearby edge.
+    p0, p1 = X.seg[:, 0], X.seg[:, 1]
+    fw = bw = np.arange(X.n_seg)
+    for _ in range(2):
+        fw, bw = X.nxt[fw], X.prv[bw]
+        for j in (fw, bw):
+            out[:X.n_seg] |= (X._edge_distance(p0, j) < rho) & (X._edge_distance(p1, j) < rho)
+    if X.n_arc < 3:
+        return out
+    # Arcs: ρ-disks about the nearest undecided arc vertices along the ring.
+    ring = np.cumsum(X.prv != np.arange(-1, X.n_seg - 1)) - 1     # rings are runs of consecutive edges
+    rid = ring[X.ai]
+    alive = np.arange(X.n_arc)
+    k = _PRUNE_STEPS
+    while len(alive) > 2:
+        g = rid[alive]
+        first = np.flatnonzero(np.r_[True, g[1:] != g[:-1]])
+        size = np.diff(np.r_[first, len(alive)])
+        grp = np.repeat(np.arange(len(first)), size)
+        pos = np.arange(len(alive)) - first[grp]
+        step = np.repeat(np.arange(1, k + 1), 2) * np.tile([1, -1], k)
+        nb = alive[first[grp][:, None] + (pos[:, None] + step) % size[grp][:, None]]
+        cov = _arcs_covered(X.arc_v[alive], X.arc_a0[alive], X.arc_sw[alive], X.arc_v[nb], r, rho)
+        if not cov.any():
+            break
+        out[X.n_seg + alive[cov]] = True
+        alive = alive[~cov]
+    return out
+
+
+def _arcs_covered(v, a0, sw, w, r, rho) -> np.ndarray:
+    """Whether the arcs (centre v, radius r, start a0, signed sweep sw) lie in the union of the ρ-disks
+    about the points ``w[i, :]`` (only intervals that hold an end of the arc count; see `_dominated`)."""
+    d = np.hypot(w[..., 0] - v[:, None, 0], w[..., 1] - v[:, None, 1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        c = (r * r + d * d - rho * rho) / (2.0 * r * d)
+        half = np.arccos(np.clip(c, -1.0, 1.0))
+        phi = np.arctan2(w[..., 1] - v[:, None, 1], w[..., 0] - v[:, None, 0])
+    ok = (c < 1.0) & (d > 0)
+    # Each interval in turns from the arc's start, along its sweep: [s, s + 2·half].
+    s = np.where((sw > 0)[:, None], (phi - half - a0[:, None]) % _TWO_PI, (a0[:, None] - phi - half) % _TWO_PI)
+    e = s + 2.0 * half
+    span = np.abs(sw)[:, None]
+    head = np.where(ok & (e > _TWO_PI), e - _TWO_PI, -np.inf).max(axis=1)      # covers [0, head]
+    tail = np.where(ok & (s < span) & (e > span), s, np.inf).min(axis=1)      # covers [tail, span]
+    span = span[:, 0]
+    return (head >= span) | (tail <= 0.0) | (head > tail)
 _CLEAR_PIECE_R = 1.0 / 16.0     # longest piece (relative to r) cut against every capsule in reach …
 _SPLIT_MAX_R = 4.0              # … unless it is longer than this (relative to r), then it stays whole
 _FEW_EDGES = 16                 # … or no more edges than this lie near it (then it is cut at once)
@@ -566,6 +646,8 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False, *,
     el = np.arange(n_el)
     lo, hi = np.zeros(n_el), np.ones(n_el)
     keep = X.tiny < 0.5
+    if _PRUNE:
+        keep &= ~_dominated(X)
     el, lo, hi = el[keep], lo[keep], hi[keep]
     final_el, final_lo, final_hi, lonely = [], [], [], []
     for _ in range(_MAX_ROUNDS):
