@@ -29,12 +29,16 @@ def main(argv=None) -> int:
     p.add_argument("--root", default=str(HERE.parent))
     p.add_argument("--profile", action="store_true")
     a = p.parse_args(argv)
-    sys.path[:0] = [a.root, str(HERE)]
+    sys.path[:0] = [a.root, str(Path(a.root) / "benchmarks")]      # that tree's bench_families puts its root first
     import shapely
 
     import bench_families
+    import vectortighten
     from vectortighten import morphology
     from vectortighten.offsets import exact_offsets
+
+    if not vectortighten.__file__.startswith(str(Path(a.root).resolve())):
+        raise SystemExit(f"imported {vectortighten.__file__}, not from {a.root}")
 
     for case in a.cases:
         fam, n, reps = case.split(":")
