@@ -665,6 +665,11 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False, *,
     boundaries almost every element lies inside one capsule and goes in the first round, so the work is
     O(n log n) with the reach queries confined to the few pieces near ``∂S↓r``.
 
+    Before the rounds, `_dominated` drops the elements that a few ring neighbours' capsules (disks, for
+    arcs) cover with a margin, and trims the arcs it keeps to what those left uncovered: on a pixel
+    staircase much finer than r most arcs lie under their neighbours' disks (an arc about a vertex that
+    no r-disk in S can touch), and only the arcs of the staircase's outermost vertices reach the rounds.
+
     Examples
     --------
     A 4 × 3 box at r = 1: the shrink is the rectangle [1, 3] × [1, 2], its corners the core's arc centres.
