@@ -13,6 +13,8 @@ import vectortighten as vt
 from vectortighten._validation import check_shape
 from vectortighten.offsets import exact_offsets
 
+from .strategies import pixel_outline
+
 
 def corners(S, r, side=1):
     return sorted(map(tuple, exact_offsets(check_shape(S), r, side).corners.round(9).tolist()))
@@ -190,3 +192,43 @@ def test_verify_on_the_fast_path_decides_a_on_the_exact_offsets():
     ring[[0, -1]] += 0.05                          # a corner vertex moved 0.07 into its part
     T.geometry = Polygon(ring).union(min(good.geoms, key=lambda g: g.area))
     assert any(p.startswith("(a) the geometry differs") for p in T.verify())
+
+
+def _pieces(E):
+    return E.seg, E.arc_center, E.arc_start, E.arc_sweep, E.corners
+
+
+@pytest.mark.parametrize("make, r", [
+    (lambda: pixel_outline(3000, 7), 0.6),
+    (lambda: Polygon([(math.cos(t) * (3 + 0.4 * math.sin(7 * t) + 0.05 * ((k * 7919) % 13 - 6)),
+                       math.sin(t) * (3 + 0.4 * math.sin(7 * t) + 0.05 * ((k * 7919) % 13 - 6)))
+                      for k, t in enumerate(np.linspace(0, 2 * math.pi, 400, endpoint=False))]), 0.3),
+])
+def test_pruning_drops_covered_elements_and_keeps_the_same_pieces(make, r, monkeypatch):
+    """`offsets._dominated` only takes away what the rounds would cut away whole: the pieces and corners
+    come out the same with and without it (to rounding: an arc it trims is cut from a shorter start), and
+    on a pixel staircase many times finer than r it settles most elements before the rounds."""
+    from vectortighten import offsets
+
+    S = check_shape(make())
+    for side in (1, -1):
+        X = offsets._Elements(S, r, side)
+        covered, lo, hi = offsets._dominated(X)
+        E = exact_offsets(S, r, side)
+        monkeypatch.setattr(offsets, "_PRUNE", False)
+        F = exact_offsets(S, r, side)
+        monkeypatch.setattr(offsets, "_PRUNE", True)
+        for a, b in zip(_pieces(E), _pieces(F)):
+            assert a.shape == b.shape
+            assert np.allclose(a, b, rtol=0, atol=1e-12)
+        # No kept arc lies in a part the pruning took away.
+        ka = np.flatnonzero((X.arc_v[:, None, :] == E.arc_center[None, :, :]).all(axis=2).any(axis=1))
+        assert not covered[X.n_seg + ka].any()
+        if len(E.arc_center):
+            k = np.array([np.flatnonzero((X.arc_v == c).all(axis=1))[0] for c in E.arc_center])
+            t0 = (E.arc_start - X.arc_a0[k]) / X.arc_sw[k]
+            t0 = np.where(t0 < -1e-9, t0 + 2 * math.pi / np.abs(X.arc_sw[k]), t0)
+            assert np.all(t0 >= lo[X.n_seg + k] - 1e-12)
+            assert np.all(t0 + E.arc_sweep / X.arc_sw[k] <= hi[X.n_seg + k] + 1e-12)
+        if r == 0.6:
+            assert covered.mean() > 0.7          # 79 % at this size (r = 45 pixels)

@@ -224,6 +224,14 @@ class EdgeIndex:
             si, ei = _all_pairs(len(p), len(self))
         else:
             si, ei = self._candidates(p, q, dist)
+            # A segment is no nearer to an edge than its middle is, less its half-length: this one
+            # distance drops most candidates of short segments that graze the outline (and none that the
+            # exact test below keeps: the margin is far above rounding).
+            mid = 0.5 * (p + q)
+            shalf = 0.5 * np.hypot(*(q - p).T)
+            bound = point_segment_distance(mid[si], self.a[ei], self.b[ei]) - shalf[si]
+            near = bound <= dist + 1e-9 * (dist + shalf[si])
+            si, ei = si[near], ei[near]
         far = _beyond_line(p[si], q[si], self.a[ei], self.b[ei], dist)
         si, ei = si[~far], ei[~far]
         keep = segment_segment_distance(p[si], q[si], self.a[ei], self.b[ei]) <= dist

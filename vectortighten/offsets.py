@@ -32,12 +32,13 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from ._proximity import EdgeIndex, _tree
+from ._proximity import EdgeIndex, _length_classes, _tree
 
 __all__ = ["OffsetPieces", "exact_offsets", "precision_of"]
 
 _TWO_PI = 2.0 * math.pi
 _ARC_SAMPLES = 9            # points of the polyline that stands in for an arc in the reach query
+_SHORT_ARC = 0.125          # arcs of at most this sweep (radians) are reached through their chords
 
 
 def precision_of(S) -> float:
@@ -253,7 +254,7 @@ class _Elements:
     def __init__(self, S, r: float, side: int, precision: float | None = None):
         self.S, self.r, self.side = S, r, side
         a, b, prv, nxt = _edges(S)
-        self.a, self.b, self.nxt = a, b, nxt
+        self.a, self.b, self.prv, self.nxt = a, b, prv, nxt
         self.eps = max(precision_of(S), precision or 0.0)
         seg, N, turn, ai, arc_v, arc_a0, arc_sw = _elements(a, b, prv, nxt, r, side)
         self.seg, self.N, self.turn = seg, N, turn
@@ -324,6 +325,23 @@ class _Elements:
                                                self.r + slack)
             pis.append(seg[si]), pjs.append(ej)
         arc = np.flatnonzero(e >= self.n_seg)
+        if len(arc):
+            # Short arcs by their chords: every edge within r + slack of such an arc lies within that
+            # plus the arc's sag of its chord; grouped by sag within a factor of two, one grazing query
+            # a group. Longer arcs (fewer) by their polylines in the R-tree.
+            sweep = np.abs(self.arc_sw[e[arc] - self.n_seg]) * (hi[arc] - lo[arc])
+            short = sweep <= _SHORT_ARC
+            if short.any():
+                if self._index is None:
+                    self._index = EdgeIndex(self.a, self.b, self.r)
+                sa = arc[short]
+                sag = self.r * (1.0 - np.cos(0.5 * sweep[short]))
+                p, q = self.points(e[sa], lo[sa]), self.points(e[sa], hi[sa])
+                for group in _length_classes(sag, np.arange(len(sa))):
+                    dist = self.r + slack + float(sag[group].max()) * (1.0 + 1e-9)
+                    si, ej = self._index.near_segments(p[group], q[group], dist)
+                    pis.append(sa[group[si]]), pjs.append(ej)
+                arc = arc[~short]
         if len(arc):
             g, sag = self.geoms(e[arc], lo[arc], hi[arc])
             ai, ej = self.tree.query(g, predicate="dwithin", distance=self.r + sag + slack)
@@ -503,6 +521,113 @@ def _uncovered(X, el, lo, hi, pi, pj):
 
 
 _MAX_ROUNDS = 400
+_PRUNE = True                   # drop the raw elements `_dominated` proves covered before the rounds
+_PRUNE_STEPS = 2                # neighbours on each side along the ring that `_dominated` tries at a time
+_PRUNE_SLACK = 4.0              # the margin of `_dominated`'s radius, in units of the precision
+
+
+def _dominated(X) -> np.ndarray:
+    """Raw elements that lie wholly inside the union of a few other edges' capsules, shrunk by a margin.
+
+    Such an element is at clearance below ``r − precision`` everywhere, by more than rounding can move it:
+    the rounds would cut all of it away, and none of the ends of its removed parts could pass the closed
+    rule. Dropping it first changes nothing else; on a dense outline (a pixel staircase, where r is many
+    pixels) nearly every element is such, and the rounds are left with the few near ``∂S↓r``.
+
+    The tests are sufficient, not necessary (an element they miss goes through the rounds as before), and
+    local along the ring, with a radius ``ρ = r − m``, ``m`` a few times the precision:
+
+    * a straight piece is covered when both its ends lie within ρ of one of the two edges before or after
+      its own (a capsule is convex);
+    * an arc about vertex v is covered by the ρ-disks about other arc vertices w: points of the arc at
+      angle θ within ``arccos((r² + |w − v|² − ρ²) / (2r|w − v|))`` of the direction of ``w − v`` lie
+      within ρ of w. Of each candidate's interval only what holds one end of the arc is used: the arc is
+      covered when what holds its start reaches what holds its end. The candidates are the nearest arc
+      vertices along the ring still undecided (`_PRUNE_STEPS` each side); a covered arc leaves the list,
+      its neighbours close up, and the test is repeated until nothing more goes. On a staircase this peels
+      the vertices off as a convex hull does, down to those whose arcs the offset keeps.
+
+    An arc that stays is trimmed to what its last test left uncovered: its parts from its start to the
+    reach of the intervals holding its start, and from the intervals holding its end, are covered too.
+
+    Returns ``(covered, lo, hi)`` over the elements (straight pieces, then arcs): the mask, and the part
+    of each element (parameters from 0 to 1) that may still hold points of ``∂S↓r``.
+    """
+    n_el = X.n_seg + X.n_arc
+    out = np.zeros(n_el, dtype=bool)
+    lo, hi = np.zeros(n_el), np.ones(n_el)
+    r = X.r
+    rho = r - _PRUNE_SLACK * X.eps
+    if X.n_seg == 0 or not rho > 0.5 * r:
+        return out, lo, hi
+    # Straight pieces: both ends in one capsule of a nearby edge.
+    p0, p1 = X.seg[:, 0], X.seg[:, 1]
+    fw = bw = np.arange(X.n_seg)
+    for _ in range(2):
+        fw, bw = X.nxt[fw], X.prv[bw]
+        for j in (fw, bw):
+            out[:X.n_seg] |= (X._edge_distance(p0, j) < rho) & (X._edge_distance(p1, j) < rho)
+    if X.n_arc < 3:
+        return out, lo, hi
+    # Arcs: ρ-disks about the nearest undecided arc vertices along the ring.
+    ring = np.cumsum(X.prv != np.arange(-1, X.n_seg - 1)) - 1     # rings are runs of consecutive edges
+    rid = ring[X.ai]
+    alive = np.arange(X.n_arc)
+    test = np.ones(X.n_arc, dtype=bool)          # the arcs whose neighbours changed (all, at first)
+    k = _PRUNE_STEPS
+    step = np.repeat(np.arange(1, k + 1), 2) * np.tile([1, -1], k)
+    while len(alive) > 2 and test.any():
+        g = rid[alive]
+        first = np.flatnonzero(np.r_[True, g[1:] != g[:-1]])
+        size = np.diff(np.r_[first, len(alive)])
+        grp = np.repeat(np.arange(len(first)), size)
+        pos = np.arange(len(alive)) - first[grp]
+
+        def around(i):
+            """Positions in ``alive`` of the k nearest on each side along the ring of positions i."""
+            return first[grp[i]][:, None] + (pos[i][:, None] + step) % size[grp[i]][:, None]
+
+        t = np.flatnonzero(test)
+        at = alive[t]
+        cov_t, head, tail = _arcs_covered(X.arc_v[at], X.arc_a0[at], X.arc_sw[at], X.arc_v[alive[around(t)]],
+                                          r, rho)
+        span = np.abs(X.arc_sw[at])
+        lo[X.n_seg + at] = np.clip(head / span, 0.0, 1.0)
+        hi[X.n_seg + at] = np.clip(tail / span, 0.0, 1.0)
+        if not cov_t.any():
+            break
+        cov = np.zeros(len(alive), dtype=bool)
+        cov[t[cov_t]] = True
+        out[X.n_seg + alive[cov]] = True
+        # Only the arcs that had a covered one among their neighbours get new neighbours: test those.
+        dirty = np.zeros(len(alive), dtype=bool)
+        dirty[around(np.flatnonzero(cov)).ravel()] = True
+        test = dirty[~cov]
+        alive = alive[~cov]
+    return out, lo, hi
+
+
+def _arcs_covered(v, a0, sw, w, r, rho) -> np.ndarray:
+    """Whether the arcs (centre v, radius r, start a0, signed sweep sw) lie in the union of the ρ-disks
+    about the points ``w[i, :]`` (only intervals that hold an end of the arc count; see `_dominated`).
+
+    Returns ``(covered, head, tail)``: the arc (turns from its start, 0 to ``|sw|``) is covered on
+    ``[0, head]`` and on ``[tail, |sw|]``.
+    """
+    d = np.hypot(w[..., 0] - v[:, None, 0], w[..., 1] - v[:, None, 1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        c = (r * r + d * d - rho * rho) / (2.0 * r * d)
+        half = np.arccos(np.clip(c, -1.0, 1.0))
+        phi = np.arctan2(w[..., 1] - v[:, None, 1], w[..., 0] - v[:, None, 0])
+    ok = (c < 1.0) & (d > 0)
+    # Each interval in turns from the arc's start, along its sweep: [s, s + 2·half].
+    s = np.where((sw > 0)[:, None], (phi - half - a0[:, None]) % _TWO_PI, (a0[:, None] - phi - half) % _TWO_PI)
+    e = s + 2.0 * half
+    span = np.abs(sw)[:, None]
+    head = np.where(ok & (e > _TWO_PI), e - _TWO_PI, -np.inf).max(axis=1)      # covers [0, head]
+    tail = np.where(ok & (s < span) & (e > span), s, np.inf).min(axis=1)      # covers [tail, span]
+    span = span[:, 0]
+    return (head >= span) | (tail <= 0.0) | (head > tail), head, tail
 _CLEAR_PIECE_R = 1.0 / 16.0     # longest piece (relative to r) cut against every capsule in reach …
 _SPLIT_MAX_R = 4.0              # … unless it is longer than this (relative to r), then it stays whole
 _FEW_EDGES = 16                 # … or no more edges than this lie near it (then it is cut at once)
@@ -540,6 +665,11 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False, *,
     boundaries almost every element lies inside one capsule and goes in the first round, so the work is
     O(n log n) with the reach queries confined to the few pieces near ``∂S↓r``.
 
+    Before the rounds, `_dominated` drops the elements that a few ring neighbours' capsules (disks, for
+    arcs) cover with a margin, and trims the arcs it keeps to what those left uncovered: on a pixel
+    staircase much finer than r most arcs lie under their neighbours' disks (an arc about a vertex that
+    no r-disk in S can touch), and only the arcs of the staircase's outermost vertices reach the rounds.
+
     Examples
     --------
     A 4 × 3 box at r = 1: the shrink is the rectangle [1, 3] × [1, 2], its corners the core's arc centres.
@@ -565,7 +695,11 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False, *,
                             z, eps)
     el = np.arange(n_el)
     lo, hi = np.zeros(n_el), np.ones(n_el)
-    keep = X.tiny < 0.5
+    if _PRUNE:
+        covered, lo, hi = _dominated(X)
+        keep = (X.tiny < 0.5) & ~covered & (hi - lo > X.tiny)
+    else:
+        keep = X.tiny < 0.5
     el, lo, hi = el[keep], lo[keep], hi[keep]
     final_el, final_lo, final_hi, lonely = [], [], [], []
     for _ in range(_MAX_ROUNDS):
@@ -622,7 +756,11 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False, *,
             # side of S, else dropped: offsets of a part thinner than 2r that left it); a part that
             # rounding leaves undecided goes round again.
             xy = X.points(e2, 0.5 * (b0 + b1))
-            d2 = X.clearance(xy)[0]
+            # A gap that is its whole piece has the piece's middle, whose clearance this round measured.
+            whole = (b0 == lo[c][row]) & (b1 == hi[c][row])
+            d2 = np.empty(len(row))
+            d2[whole] = d[c][row[whole]]
+            d2[~whole] = X.clearance(xy[~whole])[0]
             clear = d2 >= r - eps
             ok = clear & X.on_side(xy)
             final_el.append(e2[ok]), final_lo.append(b0[ok]), final_hi.append(b1[ok])
