@@ -201,6 +201,8 @@ class _Band:
         self.idx = np.flatnonzero((near & movable).ravel())
         # The band's rim: when the front reaches it, the band is rebuilt.
         self.rim = (near & ~inner).ravel()[self.idx]
+        #: The band's neighbours' flat indices for `_speed`, filled in by `_flow` on first use.
+        self.j = None
 
 
 # Offsets within chessboard distance 4, nearest first: where a band pixel looks for the other side.
@@ -240,7 +242,75 @@ def _fronts(neg: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return comp, owner
 
 
-def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None) -> tuple[np.ndarray, np.ndarray]:
+def _offsets(W: int) -> np.ndarray:
+    """Flat offsets of the eight neighbours in `_speed`'s order (e, w, s, n, ne, sw, nw, se: opposites
+    paired), for a row length W."""
+    return np.array((1, -1, W, -W, -W + 1, W - 1, -W - 1, W + 1))
+
+
+def _foreign(P: np.ndarray, idx: np.ndarray, W: int, comp: np.ndarray, owner: np.ndarray,
+             j: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Where `_speed` must not read a neighbour: the band's positions (into ``idx``) that have a neighbour
+    on another front, and for those an (8, n) mask of which neighbours (in `_offsets`' order) do.
+
+    ``j`` (8, N): the neighbours' flat indices, if already known.
+    """
+    if j is None:
+        j = _offsets(W)[:, None] + idx[None, :]
+    foreign = _foreign_at(P.ravel(), idx, j, comp, owner)
+    cols = np.flatnonzero(foreign.any(axis=0))
+    return cols, foreign[:, cols]
+
+
+def _foreign_at(flat: np.ndarray, idx: np.ndarray, j: np.ndarray, comp: np.ndarray,
+                owner: np.ndarray) -> np.ndarray:
+    """(8, N) bool: which neighbours ``j`` of the pixels ``idx`` lie on another front than the pixel's own
+    (a neighbour of the pixel's sign that another front owns, or one of the other sign in a component
+    that is not the pixel's owner)."""
+    c_neg = flat[idx] < 0
+    own_c = owner[idx]
+    same = (flat[j] < 0) == c_neg[None, :]
+    return np.where(same, owner[j] != own_c, comp[j] != own_c)
+
+
+class _ForeignCache:
+    """`_foreign` for the band, kept from step to step: it depends only on the signs of Φ and on the
+    front labels, so after a step it changes only around the pixels that changed sign (whose labels
+    `_flow` swaps), and is recomputed there. Built again from scratch when the band or the labels are.
+    """
+
+    #: Flat-offset reach (chessboard) around a pixel that changed sign within which a band pixel's
+    #: foreign neighbours may change: its neighbours (1), and a pixel of the padded frame, which copies a
+    #: border pixel next to it (2).
+    REACH = 2
+
+    def __init__(self, P: np.ndarray, band: "_Band", W: int, comp: np.ndarray, owner: np.ndarray):
+        self.idx, self.j, self.W = band.idx, band.j, W
+        self.full = _foreign_at(P.ravel(), self.idx, self.j, comp, owner)
+        self.where = np.full(P.size, -1, dtype=np.int64)
+        self.where[self.idx] = np.arange(self.idx.size)
+        k = self.REACH
+        self.near = np.array([dr * W + dc for dr in range(-k, k + 1) for dc in range(-k, k + 1)])
+        self._result = None
+
+    def changed(self, flat: np.ndarray, pos: np.ndarray, comp: np.ndarray, owner: np.ndarray) -> None:
+        """The pixels at flat indices ``pos`` changed sign (and their labels were updated)."""
+        around = np.clip((pos[:, None] + self.near[None, :]).ravel(), 0, self.where.size - 1)
+        at = np.unique(self.where[around])
+        at = at[at >= 0]
+        if at.size:
+            self.full[:, at] = _foreign_at(flat, self.idx[at], self.j[:, at], comp, owner)
+            self._result = None
+
+    def result(self) -> tuple[np.ndarray, np.ndarray]:
+        if self._result is None:
+            cols = np.flatnonzero(self.full.any(axis=0))
+            self._result = (cols, self.full[:, cols])
+        return self._result
+
+
+def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None, *, j=None,
+           foreign=None) -> tuple[np.ndarray, np.ndarray]:
     """κ|∇Φ| at the flat indices ``idx`` of the (padded, row length W) array P, in two passes.
 
     First pass: the unit normal n = ∇Φ/|∇Φ| by central differences at the four half-way points around each
@@ -251,25 +321,31 @@ def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None) -> tup
     linear continuation of Φ through the pixel from the opposite neighbour, as if the other front were not
     there. Without it, the crease of Φ between two fronts reads as a strong curvature and draws them
     together, which the continuous flow never does: fronts merge only where one of them moves.
+
+    ``j`` (the neighbours' flat indices, ``_offsets(W)[:, None] + idx``) and ``foreign`` (`_foreign`'s
+    result for the current signs and labels) may be passed in when already known; the result is the same.
     """
     flat = P.ravel()
     c = flat[idx]
     # e, w, s, n, ne, sw, nw, se (opposites paired), gathered at once: one (8, N) array.
-    offs = np.array((1, -1, W, -W, -W + 1, W - 1, -W - 1, W + 1))
-    j = offs[:, None] + idx[None, :]
-    vv = flat[j]
-    v = list(vv)
+    if j is None:
+        j = _offsets(W)[:, None] + idx[None, :]
+    v = flat[j]
     if comp is not None:
-        own_c = owner[idx]
-        same = (vv < 0) == (c < 0)[None, :]
-        foreign = list(np.where(same, owner[j] != own_c, comp[j] != own_c))
-        for a in range(0, 8, 2):
-            b = a + 1
-            fa, fb = foreign[a], foreign[b]
-            va, vb = v[a], v[b]
-            # A foreign neighbour continues Φ linearly from the opposite one; both foreign: no slope.
-            v[a] = np.where(fa, np.where(fb, c, 2 * c - vb), va)
-            v[b] = np.where(fb, np.where(fa, c, 2 * c - va), vb)
+        cols, fmask = foreign if foreign is not None else _foreign(P, idx, W, comp, owner, j)
+        if cols.size:
+            # Only the few pixels with a neighbour on another front change: the others keep their values.
+            cc = c[cols]
+            sub = v[:, cols]
+            for a in range(0, 8, 2):
+                b = a + 1
+                fa, fb = fmask[a], fmask[b]
+                va, vb = sub[a], sub[b]
+                # A foreign neighbour continues Φ linearly from the opposite one; both foreign: no slope.
+                na = np.where(fa, np.where(fb, cc, 2 * cc - vb), va)
+                nb = np.where(fb, np.where(fa, cc, 2 * cc - va), vb)
+                sub[a], sub[b] = na, nb
+            v[:, cols] = sub
     e, w, s, n, ne, sw, nw, se = v
     # Normal at the east and west half-points (x between columns), and at the south and north ones.
     gx_e = e - c
@@ -547,7 +623,7 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
     band = _Band(P, mov)
     steps = 0
     flat = P.ravel()
-    comp = owner = None
+    comp = owner = foreign = None
     stale = own_front
     snapshot, last_flip = None, 0
     rested = iterations == 0 and band.idx.size == 0
@@ -561,7 +637,14 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
         if stale:
             comp, owner = _fronts(P < 0, idx)
             stale = False
-        kappa, grad = _speed(P, idx, Wp, comp, owner)
+            foreign = None
+        if band.j is None:
+            band.j = _offsets(Wp)[:, None] + idx[None, :]
+            foreign = None
+        if own_front and foreign is None:
+            foreign = _ForeignCache(P, band, Wp, comp, owner)
+        kappa, grad = _speed(P, idx, Wp, comp, owner, j=band.j,
+                             foreign=foreign.result() if foreign is not None else None)
         kmax = float(np.abs(kappa).max()) if kappa.size else 0.0
         dt = 0.25 if kmax <= 4.0 else 1.0 / kmax
         old = flat[idx]
@@ -625,6 +708,7 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
                 stale = True
             else:
                 comp[pos], owner[pos] = owner[pos], comp[pos].copy()
+                foreign.changed(flat, pos, comp, owner)
     return P[1:-1, 1:-1].copy(), steps, rested
 
 
