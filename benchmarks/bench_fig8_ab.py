@@ -5,7 +5,8 @@ The baseline is a copy of another checkout's ``raster/`` directory under another
 imports are relative), e.g. ``cp -r /path/to/main/raster /tmp/ab/raster_main``. Each round times one
 EDT of the mask, the baseline and this checkout, in turn (after a warm-up of each); prints the medians,
 the median of the per-round ratios (this / baseline), the median time of each phase on both sides, and
-whether the two results are identical (the mask, Φ, the steps a level and the finish's curves).
+whether the two results are identical (the mask, Φ, the steps a level and the finish's curves, the
+same vertices once normalised: their order may differ).
 ``--figure 9`` runs the paper's Figure 9 (1050 × 825 px, r = 75) instead.
 
     python benchmarks/bench_fig8_ab.py /tmp/ab raster_main [--rounds N] [--figure 8|9]
@@ -34,6 +35,7 @@ def main(argv=None) -> int:
     sys.path.insert(0, str(HERE.parent))
     sys.path.append(str(args.where))
     import numpy as np
+    import shapely
     from scipy import ndimage
 
     import raster
@@ -51,7 +53,8 @@ def main(argv=None) -> int:
     same = {"mask": bool(np.array_equal(a.mask, b.mask)), "phi": bool(np.array_equal(a.phi, b.phi)),
             "steps": a.iterations == b.iterations,
             "curves": (a.curves is None and b.curves is None) or (
-                a.curves is not None and b.curves is not None and bool(a.curves.equals_exact(b.curves, 0.0)))}
+                a.curves is not None and b.curves is not None
+                and bool(shapely.normalize(a.curves).equals_exact(shapely.normalize(b.curves), 0.0)))}
     t_edt, t_base, t_new = [], [], []
     ph_base, ph_new = {}, {}
     for _ in range(args.rounds):
