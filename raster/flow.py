@@ -38,7 +38,7 @@ import numpy as np
 from scipy import ndimage
 
 from ._checks import check_mask, check_radius
-from .morphology import _core_fillet_both, mason, vanishes
+from .morphology import _core_fillet_both, _edt, _edt_squared, mason, vanishes
 from .mpp import mpp_finish
 
 __all__ = ["MAX_SUPERSAMPLED_PIXELS", "NotConvergedWarning", "RasterTightening", "SupersampleWarning",
@@ -154,9 +154,10 @@ def signed_distance(mask) -> np.ndarray:
     M = check_mask(mask)
     out = np.zeros(M.shape, dtype=np.float32)
     if M.any() and not M.all():
-        d_in = ndimage.distance_transform_edt(M)          # inside: distance to the nearest outside pixel
-        d_out = ndimage.distance_transform_edt(~M)
-        out = np.where(M, 0.5 - d_in, d_out - 0.5).astype(np.float32)
+        # Inside: the distance to the nearest outside pixel; outside: to the nearest inside one (squared,
+        # whole numbers, then one square root for both).
+        d = np.sqrt(np.where(M, _edt_squared(M), _edt_squared(~M)), dtype=np.float64)
+        out = np.where(M, 0.5 - d, d - 0.5).astype(np.float32)
     else:
         out[:] = -1e6 if M.all() else 1e6
     return out
@@ -738,7 +739,7 @@ def _reinitialise(base: np.ndarray, inside: np.ndarray, movable: np.ndarray) -> 
         phi = signed_distance(inside)
     else:
         phi = np.where(inside, -0.5, 0.5).astype(np.float32)
-    reach = ndimage.distance_transform_edt(~changed)
+    reach = _edt(~changed)
     redo = movable & (reach <= np.abs(base) + 1.0)
     return np.where(redo, phi, base).astype(np.float32)
 
@@ -913,11 +914,11 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
     # would hold the front 0.7 px beyond the arc).
     if R.any():
         # From the core, Φ there already is ½ − its distance transform (in float32, which rounds the same).
-        own = phi0[R] if start is R and not R.all() else 0.5 - ndimage.distance_transform_edt(R)[R]
+        own = phi0[R] if start is R and not R.all() else 0.5 - _edt(R)[R]
         phi0[R] = np.maximum(own, sd_R[R])
     if not F.all():
         A = ~F
-        phi0[A] = np.minimum(ndimage.distance_transform_edt(A)[A] - 0.5, -sd_A[A])
+        phi0[A] = np.minimum(_edt(A)[A] - 0.5, -sd_A[A])
     if ss > 1:
         # The flow's grid: the centre pixel of each ss × ss block, Φ in its pixels. In the mortar Φ keeps the
         # fine distances, a fraction of a pixel; a constraint pixel stays at least ½ from the front, as at

@@ -123,11 +123,38 @@ def _crop(a: np.ndarray, p: int) -> np.ndarray:
     return a[p:-p, p:-p]
 
 
+def _edt_squared(mask: np.ndarray) -> np.ndarray:
+    """Squared distance from every True pixel of ``mask`` to the nearest False pixel (0 on False pixels),
+    as whole numbers: `scipy.ndimage.distance_transform_edt`'s feature transform, with the squared
+    distances summed in integers rather than in float64 (a third less time on a million pixels; the
+    square root of the result is ``distance_transform_edt(mask)`` bit for bit). ``mask`` must hold at
+    least one False pixel."""
+    ft = ndimage.distance_transform_edt(mask, return_distances=False, return_indices=True)
+    h, w = mask.shape
+    if h * h + w * w >= 2 ** 31:
+        ft = ft.astype(np.int64)
+    dy, dx = ft[0], ft[1]
+    dy -= np.arange(h, dtype=dy.dtype)[:, None]
+    dx -= np.arange(w, dtype=dx.dtype)[None, :]
+    np.multiply(dy, dy, out=dy)
+    np.multiply(dx, dx, out=dx)
+    dy += dx
+    return dy
+
+
+def _edt(mask: np.ndarray) -> np.ndarray:
+    """``scipy.ndimage.distance_transform_edt(mask)``, the same values (float64), faster (`_edt_squared`)."""
+    mask = np.asarray(mask, dtype=bool)
+    if mask.all():
+        return ndimage.distance_transform_edt(mask)
+    return np.sqrt(_edt_squared(mask), dtype=np.float64)
+
+
 def _dist_to(mask: np.ndarray) -> np.ndarray:
     """Distance from every pixel to the nearest True pixel of ``mask`` (inf if there is none)."""
     if not mask.any():
         return np.full(mask.shape, np.inf)
-    return ndimage.distance_transform_edt(~mask)
+    return _edt(~mask)
 
 
 def _grow(M: np.ndarray, r: float) -> np.ndarray:
