@@ -75,6 +75,11 @@ def _pad(mask: np.ndarray, r: float, passes: int) -> tuple[np.ndarray, int]:
     never nearer than its projection onto the frame's edge, itself such a centre), and every corner
     where a disk fits lies farther from the frame's edge than `_opening`'s box reaches.
     """
+    return _pad_by(mask, r, _pad_width(mask, r, passes))
+
+
+def _pad_width(mask: np.ndarray, r: float, passes: int) -> int:
+    """`_pad`'s width, pixels."""
     p = passes * math.ceil(r) + 1
     if passes == 2 and mask.any():
         k = math.ceil(r) + 2
@@ -82,6 +87,11 @@ def _pad(mask: np.ndarray, r: float, passes: int) -> tuple[np.ndarray, int]:
         h, w = mask.shape
         if rows[0] >= k and cols[0] >= k and rows[-1] <= h - 1 - k and cols[-1] <= w - 1 - k:
             p = min(p, k)
+    return p
+
+
+def _pad_by(mask: np.ndarray, r: float, p: int) -> tuple[np.ndarray, int]:
+    """``mask`` edge-replicated by p pixels on every side (refused beyond `MAX_PADDED_PIXELS`)."""
     h, w = mask.shape
     if (h + 2 * p) * (w + 2 * p) > MAX_PADDED_PIXELS:
         raise ValueError(f"r = {r:g} px is too large for this {h} × {w} mask: its morphology would pad it to "
@@ -344,10 +354,41 @@ def _core_fillet_both(M: np.ndarray, r: float):
     if vanishes(M, r):
         R, F = _core_fillet(M, r)
         return R, F, R, F, np.where(R, -0.5, 0.5).astype(np.float32), np.where(F, 0.5, -0.5).astype(np.float32)
-    P, p = _pad(M, r, 2)
+    pc, pa = _opening_pads(M, r)
+    P, p = _pad_by(M, r, pc)
     R, Rc, dR = _opening(P, r, parts=True)
-    A, Ac, dA = _opening(~P, r, parts=True)
-    return _crop(R, p), _crop(~A, p), _crop(Rc, p), _crop(~Ac, p), _crop(dR, p), _crop(dA, p)
+    R, Rc, dR = _crop(R, p), _crop(Rc, p), _crop(dR, p)
+    P, p = _pad_by(~M, r, pa)
+    A, Ac, dA = _opening(P, r, parts=True)
+    return R, _crop(~A, p), Rc, _crop(~Ac, p), dR, _crop(dA, p)
+
+
+def _opening_pads(M: np.ndarray, r: float) -> tuple[int, int]:
+    """The padding (pixels) `_core_fillet_both` gives the mask for its core and for its anticore.
+
+    `_pad`'s for an opening, unless every border pixel has one value. Say False: edge replication then
+    surrounds the image with False pixels, and
+
+    * the core needs one pixel of frame: a disk that fits the mask lies inside it, and the border's own
+      False pixels are nearer to every True pixel than any pixel beyond them;
+    * the anticore needs ``ceil(r) + 2``, as in `_pad`: every frame pixel at depth r + ½ or more is a
+      centre of the complement's shrink (it is at least that far from every True pixel), so the nearest
+      centre to an image pixel lies within the frame (a point beyond it is never nearer than its
+      projection onto the frame's edge); a corner where a disk fits and the centres do not cover has a
+      pixel nearer than r + ½ to the mask, so its four pixels lie within depth ``ceil(r) + 1``; the
+      nearest such corner to an image pixel is found exactly (`_dist_to_corners`); a disk's pixels
+      beyond the frame are beyond the image.
+
+    The result on the image is the same, pixel for pixel, as with the full padding. True: the same with
+    the roles exchanged.
+    """
+    p = _pad_width(M, r, 2)
+    border = np.concatenate([M[0], M[-1], M[:, 0], M[:, -1]])
+    if not border.any():
+        return 1, min(p, math.ceil(r) + 2)
+    if border.all():
+        return min(p, math.ceil(r) + 2), 1
+    return p, p
 
 
 def _core_fillet(M: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
