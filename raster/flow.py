@@ -628,7 +628,7 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
     stale = own_front
     snapshot, last_flip = None, 0
     rested = iterations == 0 and band.idx.size == 0
-    last_topo, last_topo_flip = None, 0
+    last_inside, last_topo_flip = None, 0
     for steps in range(1, iterations + 1):
         if band.idx.size == 0:
             steps -= 1
@@ -657,10 +657,8 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
         # behind it deeper, step after step, without moving the front: the front across the part (a thin
         # ring's other side) then has ever more to undo, and the part never vanishes.
         neg = new < 0
-        bound = np.full(idx.size, np.inf, dtype=np.float32)
-        for o in (1, -1, Wp, -Wp):
-            q = flat[idx + o]
-            bound = np.minimum(bound, np.where((q < 0) != neg, np.float32(1.0), np.abs(q) + np.float32(1.0)))
+        q = flat[band.j[:4]]                    # the four side neighbours (e, w, s, n), after the step
+        bound = np.where((q < 0) != neg, np.float32(1.0), np.abs(q) + np.float32(1.0)).min(axis=0)
         over = np.abs(new) > bound
         if over.any():
             new = np.where(over, np.copysign(bound, new), new).astype(np.float32)
@@ -680,11 +678,15 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
             # Only the homotopy class is needed (a minimum-perimeter finish follows): the level rests
             # when its parts and holes stayed the same over a whole window without a pixel changing a
             # component or a hole.
-            topo = _topology_counts(P[1:-1, 1:-1] < 0)
-            if topo == last_topo and steps - last_topo_flip >= STOP_WINDOW:
+            # (The counts are only needed when the window was quiet; the set at the window's start is
+            # kept, and counted then.)
+            inside_now = P[1:-1, 1:-1] < 0
+            if last_inside is not None and steps - last_topo_flip >= STOP_WINDOW and (
+                    np.array_equal(inside_now, last_inside)
+                    or _topology_counts(inside_now) == _topology_counts(last_inside)):
                 rested = True
                 break
-            last_topo = topo
+            last_inside = inside_now
         elif steps % STOP_WINDOW == 0:
             # Rest is judged on the net change over a window: a pixel that swings in place every step (at a
             # constraint's corner, say) moves Φ by a tenth of a pixel a step forever and never rests step
