@@ -163,6 +163,34 @@ def signed_distance(mask) -> np.ndarray:
     return out
 
 
+def _box_around(region: np.ndarray) -> tuple[slice, slice] | None:
+    """The bounding box of a non-empty mask with a one-pixel margin (clipped to the array); None if the
+    box is the whole array or the mask is empty."""
+    rows, cols = np.flatnonzero(region.any(axis=1)), np.flatnonzero(region.any(axis=0))
+    if not len(rows):
+        return None
+    h, w = region.shape
+    box = (slice(max(rows[0] - 1, 0), min(rows[-1] + 2, h)), slice(max(cols[0] - 1, 0), min(cols[-1] + 2, w)))
+    return None if box[0].stop - box[0].start == h and box[1].stop - box[1].start == w else box
+
+
+def _signed_distance_within(mask: np.ndarray, region: np.ndarray) -> np.ndarray:
+    """`signed_distance(mask)` at every pixel of the box around ``mask | region`` (`_box_around`), computed
+    on that box alone; +inf outside it.
+
+    Exact in the box: every pixel of ``mask`` lies in it, so an outside pixel's nearest inside pixel does,
+    and the box's margin (or the image's own edge) is outside ``mask``, nearer to an inside pixel than
+    anything beyond it. `tighten` and `_reinitialise` read the result only in the fillet (the set and its
+    mortar), which ``region`` covers; Figure 8's fillet fills 79 % of its image.
+    """
+    box = _box_around(mask | region)
+    if box is None:
+        return signed_distance(mask)
+    out = np.full(mask.shape, np.inf, dtype=np.float32)
+    out[box] = signed_distance(mask[box])
+    return out
+
+
 def default_levels(r: float) -> int:
     """Resolution levels for radius r: halve while r/2^k stays above two pixels.
 
@@ -737,11 +765,19 @@ def _reinitialise(base: np.ndarray, inside: np.ndarray, movable: np.ndarray) -> 
     changed = (inside != (base < 0)) & movable
     if not changed.any():
         return base.copy()
+    # Both distances are read only in ``movable``: on the box around it and the set (exact there, see
+    # `_signed_distance_within`; the changed pixels, all movable, lie in it too).
+    box = _box_around(inside | movable)
+    if box is None:
+        box = (slice(None), slice(None))
+    phi = np.full(base.shape, np.inf, dtype=np.float32)
+    reach = np.full(base.shape, np.inf)
+    ins = inside[box]
     if inside.any() and not inside.all():
-        phi = signed_distance(inside)
+        phi[box] = signed_distance(ins)
     else:
-        phi = np.where(inside, -0.5, 0.5).astype(np.float32)
-    reach = _edt(~changed)
+        phi[box] = np.where(ins, -0.5, 0.5)
+    reach[box] = _edt(~changed[box])
     redo = movable & (reach <= np.abs(base) + 1.0)
     return np.where(redo, phi, base).astype(np.float32)
 
@@ -906,7 +942,9 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
                                 fillet=F, r=r, init=init, levels=levels, iterations=[], timings=timings)
     t0 = time.perf_counter()
     start = {"core": R, "input": M, "mason": mason(M, r) if init == "mason" else None}[init]
-    phi0 = signed_distance(start) if start.any() and not start.all() else \
+    # Φ beyond the box around the fillet (and the start) is anticore's, set below: the start's signed
+    # distance is needed only in that box.
+    phi0 = _signed_distance_within(start, F) if start.any() and not start.all() else \
         np.where(start, -0.5, 0.5).astype(np.float32)
     # The constraints: Φ < 0 in the core and > 0 in the anticore, for good. There Φ is the signed distance
     # to the constraint's own edge (−½ and +½ on its first pixels), not to the initial set: a front that
