@@ -549,23 +549,25 @@ def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np
     flat = cur.ravel()
 
     def flip_simple() -> np.ndarray:
-        while True:
-            cand = np.flatnonzero(((cur != tgt) & mov).ravel())
-            if cand.size == 0:
-                break
+        # The pixels still to flip: a flip makes a pixel equal to the target for good, so the list only
+        # loses the ones flipped (kept in flat order, as a fresh search would give it).
+        cand = np.flatnonzero(((cur != tgt) & mov).ravel())
+        while cand.size:
             parity = (cand // W % 2) * 2 + (cand % W % 2)
-            flipped = 0
+            done = np.zeros(cand.size, dtype=bool)
             for sub in range(4):
-                p = cand[parity == sub]
-                if p.size == 0:
+                at = np.flatnonzero(parity == sub)
+                if at.size == 0:
                     continue
+                p = cand[at]
                 code = _ring_codes(flat, p, W)
                 was = flat[p]
                 ok = _SIMPLE[code] | ((code == 255) & ~was) | ((code == 0) & was)
                 flat[p[ok]] = ~was[ok]
-                flipped += int(ok.sum())
-            if not flipped:
+                done[at[ok]] = True
+            if not done.any():
                 break
+            cand = cand[~done]
         return (cur != tgt) & mov
 
     stuck = flip_simple()
