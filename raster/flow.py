@@ -658,7 +658,9 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
     stale = own_front
     snapshot, last_flip = None, 0
     rested = iterations == 0 and band.idx.size == 0
-    last_inside, last_topo_flip = None, 0
+    # The topology rest test's first window starts with the level itself: its starting set is the one the
+    # first check compares with (the front test needs a window's worth of Φ first).
+    last_inside, last_topo_flip = ((P[1:-1, 1:-1] < 0) if rest == "topology" else None), 0
     for steps in range(1, iterations + 1):
         if band.idx.size == 0:
             steps -= 1
@@ -707,7 +709,9 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
         if steps % STOP_WINDOW == 0 and rest == "topology" and stop > 0:
             # Only the homotopy class is needed (a minimum-perimeter finish follows): the level rests
             # when its parts and holes stayed the same over a whole window without a pixel changing a
-            # component or a hole.
+            # component or a hole, the first window included (from the level's starting set: a coarse
+            # level, which keeps its topology, then rests after one window, and the full-resolution level
+            # as soon as one window of its own passes without a change).
             # (The counts are only needed when the window was quiet; the set at the window's start is
             # kept, and counted then.)
             inside_now = P[1:-1, 1:-1] < 0
@@ -869,7 +873,10 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
     stop : float
         Early stop: a level ends when no pixel has changed sign for `STOP_WINDOW` steps and over those
         steps Φ within a pixel of the front has changed, net, by less than this many pixels a step (net,
-        so that a pixel swinging in place does not keep a resting front flowing).
+        so that a pixel swinging in place does not keep a resting front flowing). With the
+        minimum-perimeter finish (the default), which needs only the homotopy class, a level rests
+        instead when over `STOP_WINDOW` steps (the first window starting with the level) no pixel
+        changed a component or a hole and their counts stayed the same; ``stop=0`` turns both tests off.
     supersample : int, odd, ≥ 1
         The mask is sampled this many times finer than the grid the flow runs on (1, the default, is the
         paper's method). The morphology (core, fillet, the initial set) is computed on the fine mask, and
