@@ -573,19 +573,25 @@ def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np
     stuck = flip_simple()
     if stuck.any():
         eight = np.ones((3, 3), bool)
-        near = ndimage.binary_dilation(stuck, structure=eight)
+        near = ndimage.maximum_filter(stuck, size=3, mode="constant")     # its 3 × 3 dilation
         vanish = np.zeros_like(cur)
         for side, structure in ((cur, eight), (~cur, None)):    # parts 8-connected, holes 4-connected
-            label, _ = ndimage.label(side, structure=structure)
-            anchored = np.unique(label[side & ~mov])
-            free = (label > 0) & ~np.isin(label, anchored)
-            vanish |= free & np.isin(label, np.unique(label[free & near]))
+            label, n = ndimage.label(side, structure=structure)
+            # Per label: anchored (holds a pixel that cannot move), and free parts beside a stuck pixel.
+            anchored = np.zeros(n + 1, dtype=bool)
+            anchored[label[side & ~mov]] = True
+            free = (label > 0) & ~anchored[label]
+            hit = np.zeros(n + 1, dtype=bool)
+            hit[label[free & near]] = True
+            vanish |= free & hit[label]
         if vanish.any():
             cur[vanish] = ~cur[vanish]
             stuck = flip_simple()
     if stuck.any():
-        change, _ = ndimage.label((s0 != tgt) & mov, structure=np.ones((3, 3), bool))
-        undo = np.isin(change, np.unique(change[stuck]))
+        change, n = ndimage.label((s0 != tgt) & mov, structure=np.ones((3, 3), bool))
+        hit = np.zeros(n + 1, dtype=bool)
+        hit[change[stuck]] = True               # (label 0 too, as before, if a stuck pixel has it)
+        undo = hit[change]
         cur[undo] = s0[undo]
     # Fronts pressed a pixel apart by the coarse level: undo each region of change within `PRESS_REACH` of
     # such a pixel. A pixel farther than that from every change sees the start's window, and is pressed
@@ -599,12 +605,13 @@ def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np
             pressed &= ~_pressed(s0, pressed)
         if not pressed.any():
             break
-        change, _ = ndimage.label(moved & mov, structure=eight)
-        hit = np.unique(change[ndimage.maximum_filter(pressed, size=reach)])
-        hit = hit[hit > 0]
-        if hit.size == 0:
+        change, n = ndimage.label(moved & mov, structure=eight)
+        hit = np.zeros(n + 1, dtype=bool)
+        hit[change[ndimage.maximum_filter(pressed, size=reach)]] = True
+        hit[0] = False
+        if not hit.any():
             break
-        undo = np.isin(change, hit)
+        undo = hit[change]
         cur[undo] = s0[undo]
     return cur[1:-1, 1:-1].copy()
 
