@@ -783,16 +783,45 @@ def _reinitialise(base: np.ndarray, inside: np.ndarray, movable: np.ndarray) -> 
     box = _box_around(inside | movable)
     if box is None:
         box = (slice(None), slice(None))
-    phi = np.full(base.shape, np.inf, dtype=np.float32)
     reach = np.full(base.shape, np.inf)
-    ins = inside[box]
-    if inside.any() and not inside.all():
-        phi[box] = signed_distance(ins)
-    else:
-        phi[box] = np.where(ins, -0.5, 0.5)
     reach[box] = _edt(~changed[box])
     redo = movable & (reach <= np.abs(base) + 1.0)
-    return np.where(redo, phi, base).astype(np.float32)
+    out = base.copy()
+    if inside.any() and not inside.all():
+        out[redo] = _signed_distance_at(inside[box], np.flatnonzero(redo[box].ravel()))
+    else:
+        out[redo] = np.where(inside[redo], -0.5, 0.5)
+    return out
+
+
+def _signed_distance_at(M: np.ndarray, where: np.ndarray) -> np.ndarray:
+    """`signed_distance(M)` at the flat indices ``where`` only (float32), the same values: an inside
+    pixel's nearest outside pixel has an inside pixel beside it (the pixel one step back towards it,
+    along its longer axis, is nearer, so inside), and vice versa, so each distance is found by a k-d tree
+    of the pixels along the other side's edge, queried at ``where`` (a few tens of thousands of pixels
+    where two feature transforms would cover the whole array). ``M`` holds both values."""
+    from scipy.spatial import cKDTree
+
+    edge_in = M & ~_interior(M)
+    edge_out = ~M & ~_interior(~M)
+    ii, jj = np.unravel_index(where, M.shape)
+    at_in = M[ii, jj]
+    pts = np.column_stack([ii, jj]).astype(float)
+    d = np.empty(where.size)
+    for sel, edge in ((at_in, edge_out), (~at_in, edge_in)):
+        if sel.any():
+            d[sel] = cKDTree(np.argwhere(edge).astype(float)).query(pts[sel])[0]
+    return np.where(at_in, 0.5 - d, d - 0.5).astype(np.float32)
+
+
+def _interior(M: np.ndarray) -> np.ndarray:
+    """Pixels of M whose four side neighbours within the array are all in M."""
+    out = M.copy()
+    out[1:] &= M[:-1]
+    out[:-1] &= M[1:]
+    out[:, 1:] &= M[:, :-1]
+    out[:, :-1] &= M[:, 1:]
+    return out
 
 
 def _check_supersample(k, shape: tuple[int, int]) -> int:

@@ -497,3 +497,19 @@ def test_incremental_foreign_neighbours_match_a_fresh_search(monkeypatch):
     monkeypatch.setattr(fl._ForeignCache, "changed", lambda self, *a: None)
     stale = fl._flow(phi.copy(), mov, 120, 0.0)
     assert not np.array_equal(stale[0], want[0])
+
+
+def test_signed_distance_at_a_few_pixels_is_the_same():
+    """`_signed_distance_at` (a k-d tree of each side's edge pixels) gives `signed_distance`'s values,
+    bit for bit, at the pixels asked for."""
+    from raster.flow import _signed_distance_at
+
+    rng = np.random.default_rng(9)
+    for _ in range(80):
+        m = rng.random(tuple(rng.integers(2, 40, 2))) < rng.random()
+        if not m.any() or m.all():
+            continue
+        where = rng.choice(m.size, min(m.size, 30), replace=False)
+        got = _signed_distance_at(m, where)
+        want = raster.signed_distance(m).ravel()[where]
+        assert got.dtype == want.dtype and np.array_equal(got, want)
