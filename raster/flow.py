@@ -38,7 +38,7 @@ import numpy as np
 from scipy import ndimage
 
 from ._checks import check_mask, check_radius
-from .morphology import _core_fillet_both, mason, vanishes
+from .morphology import _core_fillet_both, _edt, _edt_squared, mason, vanishes
 from .mpp import mpp_finish
 
 __all__ = ["MAX_SUPERSAMPLED_PIXELS", "NotConvergedWarning", "RasterTightening", "SupersampleWarning",
@@ -154,11 +154,40 @@ def signed_distance(mask) -> np.ndarray:
     M = check_mask(mask)
     out = np.zeros(M.shape, dtype=np.float32)
     if M.any() and not M.all():
-        d_in = ndimage.distance_transform_edt(M)          # inside: distance to the nearest outside pixel
-        d_out = ndimage.distance_transform_edt(~M)
-        out = np.where(M, 0.5 - d_in, d_out - 0.5).astype(np.float32)
+        # Inside: the distance to the nearest outside pixel; outside: to the nearest inside one (squared,
+        # whole numbers, then one square root for both).
+        d = np.sqrt(np.where(M, _edt_squared(M), _edt_squared(~M)), dtype=np.float64)
+        out = np.where(M, 0.5 - d, d - 0.5).astype(np.float32)
     else:
         out[:] = -1e6 if M.all() else 1e6
+    return out
+
+
+def _box_around(region: np.ndarray) -> tuple[slice, slice] | None:
+    """The bounding box of a non-empty mask with a one-pixel margin (clipped to the array); None if the
+    box is the whole array or the mask is empty."""
+    rows, cols = np.flatnonzero(region.any(axis=1)), np.flatnonzero(region.any(axis=0))
+    if not len(rows):
+        return None
+    h, w = region.shape
+    box = (slice(max(rows[0] - 1, 0), min(rows[-1] + 2, h)), slice(max(cols[0] - 1, 0), min(cols[-1] + 2, w)))
+    return None if box[0].stop - box[0].start == h and box[1].stop - box[1].start == w else box
+
+
+def _signed_distance_within(mask: np.ndarray, region: np.ndarray) -> np.ndarray:
+    """`signed_distance(mask)` at every pixel of the box around ``mask | region`` (`_box_around`), computed
+    on that box alone; +inf outside it.
+
+    Exact in the box: every pixel of ``mask`` lies in it, so an outside pixel's nearest inside pixel does,
+    and the box's margin (or the image's own edge) is outside ``mask``, nearer to an inside pixel than
+    anything beyond it. `tighten` and `_reinitialise` read the result only in the fillet (the set and its
+    mortar), which ``region`` covers; Figure 8's fillet fills 79 % of its image.
+    """
+    box = _box_around(mask | region)
+    if box is None:
+        return signed_distance(mask)
+    out = np.full(mask.shape, np.inf, dtype=np.float32)
+    out[box] = signed_distance(mask[box])
     return out
 
 
@@ -201,6 +230,8 @@ class _Band:
         self.idx = np.flatnonzero((near & movable).ravel())
         # The band's rim: when the front reaches it, the band is rebuilt.
         self.rim = (near & ~inner).ravel()[self.idx]
+        #: The band's neighbours' flat indices for `_speed`, filled in by `_flow` on first use.
+        self.j = None
 
 
 # Offsets within chessboard distance 4, nearest first: where a band pixel looks for the other side.
@@ -240,7 +271,75 @@ def _fronts(neg: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return comp, owner
 
 
-def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None) -> tuple[np.ndarray, np.ndarray]:
+def _offsets(W: int) -> np.ndarray:
+    """Flat offsets of the eight neighbours in `_speed`'s order (e, w, s, n, ne, sw, nw, se: opposites
+    paired), for a row length W."""
+    return np.array((1, -1, W, -W, -W + 1, W - 1, -W - 1, W + 1))
+
+
+def _foreign(P: np.ndarray, idx: np.ndarray, W: int, comp: np.ndarray, owner: np.ndarray,
+             j: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Where `_speed` must not read a neighbour: the band's positions (into ``idx``) that have a neighbour
+    on another front, and for those an (8, n) mask of which neighbours (in `_offsets`' order) do.
+
+    ``j`` (8, N): the neighbours' flat indices, if already known.
+    """
+    if j is None:
+        j = _offsets(W)[:, None] + idx[None, :]
+    foreign = _foreign_at(P.ravel(), idx, j, comp, owner)
+    cols = np.flatnonzero(foreign.any(axis=0))
+    return cols, foreign[:, cols]
+
+
+def _foreign_at(flat: np.ndarray, idx: np.ndarray, j: np.ndarray, comp: np.ndarray,
+                owner: np.ndarray) -> np.ndarray:
+    """(8, N) bool: which neighbours ``j`` of the pixels ``idx`` lie on another front than the pixel's own
+    (a neighbour of the pixel's sign that another front owns, or one of the other sign in a component
+    that is not the pixel's owner)."""
+    c_neg = flat[idx] < 0
+    own_c = owner[idx]
+    same = (flat[j] < 0) == c_neg[None, :]
+    return np.where(same, owner[j] != own_c, comp[j] != own_c)
+
+
+class _ForeignCache:
+    """`_foreign` for the band, kept from step to step: it depends only on the signs of Φ and on the
+    front labels, so after a step it changes only around the pixels that changed sign (whose labels
+    `_flow` swaps), and is recomputed there. Built again from scratch when the band or the labels are.
+    """
+
+    #: Flat-offset reach (chessboard) around a pixel that changed sign within which a band pixel's
+    #: foreign neighbours may change: its neighbours (1), and a pixel of the padded frame, which copies a
+    #: border pixel next to it (2).
+    REACH = 2
+
+    def __init__(self, P: np.ndarray, band: "_Band", W: int, comp: np.ndarray, owner: np.ndarray):
+        self.idx, self.j, self.W = band.idx, band.j, W
+        self.full = _foreign_at(P.ravel(), self.idx, self.j, comp, owner)
+        self.where = np.full(P.size, -1, dtype=np.int64)
+        self.where[self.idx] = np.arange(self.idx.size)
+        k = self.REACH
+        self.near = np.array([dr * W + dc for dr in range(-k, k + 1) for dc in range(-k, k + 1)])
+        self._result = None
+
+    def changed(self, flat: np.ndarray, pos: np.ndarray, comp: np.ndarray, owner: np.ndarray) -> None:
+        """The pixels at flat indices ``pos`` changed sign (and their labels were updated)."""
+        around = np.clip((pos[:, None] + self.near[None, :]).ravel(), 0, self.where.size - 1)
+        at = np.unique(self.where[around])
+        at = at[at >= 0]
+        if at.size:
+            self.full[:, at] = _foreign_at(flat, self.idx[at], self.j[:, at], comp, owner)
+            self._result = None
+
+    def result(self) -> tuple[np.ndarray, np.ndarray]:
+        if self._result is None:
+            cols = np.flatnonzero(self.full.any(axis=0))
+            self._result = (cols, self.full[:, cols])
+        return self._result
+
+
+def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None, *, j=None,
+           foreign=None) -> tuple[np.ndarray, np.ndarray]:
     """κ|∇Φ| at the flat indices ``idx`` of the (padded, row length W) array P, in two passes.
 
     First pass: the unit normal n = ∇Φ/|∇Φ| by central differences at the four half-way points around each
@@ -251,25 +350,31 @@ def _speed(P: np.ndarray, idx: np.ndarray, W: int, comp=None, owner=None) -> tup
     linear continuation of Φ through the pixel from the opposite neighbour, as if the other front were not
     there. Without it, the crease of Φ between two fronts reads as a strong curvature and draws them
     together, which the continuous flow never does: fronts merge only where one of them moves.
+
+    ``j`` (the neighbours' flat indices, ``_offsets(W)[:, None] + idx``) and ``foreign`` (`_foreign`'s
+    result for the current signs and labels) may be passed in when already known; the result is the same.
     """
     flat = P.ravel()
     c = flat[idx]
     # e, w, s, n, ne, sw, nw, se (opposites paired), gathered at once: one (8, N) array.
-    offs = np.array((1, -1, W, -W, -W + 1, W - 1, -W - 1, W + 1))
-    j = offs[:, None] + idx[None, :]
-    vv = flat[j]
-    v = list(vv)
+    if j is None:
+        j = _offsets(W)[:, None] + idx[None, :]
+    v = flat[j]
     if comp is not None:
-        own_c = owner[idx]
-        same = (vv < 0) == (c < 0)[None, :]
-        foreign = list(np.where(same, owner[j] != own_c, comp[j] != own_c))
-        for a in range(0, 8, 2):
-            b = a + 1
-            fa, fb = foreign[a], foreign[b]
-            va, vb = v[a], v[b]
-            # A foreign neighbour continues Φ linearly from the opposite one; both foreign: no slope.
-            v[a] = np.where(fa, np.where(fb, c, 2 * c - vb), va)
-            v[b] = np.where(fb, np.where(fa, c, 2 * c - va), vb)
+        cols, fmask = foreign if foreign is not None else _foreign(P, idx, W, comp, owner, j)
+        if cols.size:
+            # Only the few pixels with a neighbour on another front change: the others keep their values.
+            cc = c[cols]
+            sub = v[:, cols]
+            for a in range(0, 8, 2):
+                b = a + 1
+                fa, fb = fmask[a], fmask[b]
+                va, vb = sub[a], sub[b]
+                # A foreign neighbour continues Φ linearly from the opposite one; both foreign: no slope.
+                na = np.where(fa, np.where(fb, cc, 2 * cc - vb), va)
+                nb = np.where(fb, np.where(fa, cc, 2 * cc - va), vb)
+                sub[a], sub[b] = na, nb
+            v[:, cols] = sub
     e, w, s, n, ne, sw, nw, se = v
     # Normal at the east and west half-points (x between columns), and at the south and north ones.
     gx_e = e - c
@@ -444,41 +549,49 @@ def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np
     flat = cur.ravel()
 
     def flip_simple() -> np.ndarray:
-        while True:
-            cand = np.flatnonzero(((cur != tgt) & mov).ravel())
-            if cand.size == 0:
-                break
+        # The pixels still to flip: a flip makes a pixel equal to the target for good, so the list only
+        # loses the ones flipped (kept in flat order, as a fresh search would give it).
+        cand = np.flatnonzero(((cur != tgt) & mov).ravel())
+        while cand.size:
             parity = (cand // W % 2) * 2 + (cand % W % 2)
-            flipped = 0
+            done = np.zeros(cand.size, dtype=bool)
             for sub in range(4):
-                p = cand[parity == sub]
-                if p.size == 0:
+                at = np.flatnonzero(parity == sub)
+                if at.size == 0:
                     continue
+                p = cand[at]
                 code = _ring_codes(flat, p, W)
                 was = flat[p]
                 ok = _SIMPLE[code] | ((code == 255) & ~was) | ((code == 0) & was)
                 flat[p[ok]] = ~was[ok]
-                flipped += int(ok.sum())
-            if not flipped:
+                done[at[ok]] = True
+            if not done.any():
                 break
+            cand = cand[~done]
         return (cur != tgt) & mov
 
     stuck = flip_simple()
     if stuck.any():
         eight = np.ones((3, 3), bool)
-        near = ndimage.binary_dilation(stuck, structure=eight)
+        near = ndimage.maximum_filter(stuck, size=3, mode="constant")     # its 3 × 3 dilation
         vanish = np.zeros_like(cur)
         for side, structure in ((cur, eight), (~cur, None)):    # parts 8-connected, holes 4-connected
-            label, _ = ndimage.label(side, structure=structure)
-            anchored = np.unique(label[side & ~mov])
-            free = (label > 0) & ~np.isin(label, anchored)
-            vanish |= free & np.isin(label, np.unique(label[free & near]))
+            label, n = ndimage.label(side, structure=structure)
+            # Per label: anchored (holds a pixel that cannot move), and free parts beside a stuck pixel.
+            anchored = np.zeros(n + 1, dtype=bool)
+            anchored[label[side & ~mov]] = True
+            free = (label > 0) & ~anchored[label]
+            hit = np.zeros(n + 1, dtype=bool)
+            hit[label[free & near]] = True
+            vanish |= free & hit[label]
         if vanish.any():
             cur[vanish] = ~cur[vanish]
             stuck = flip_simple()
     if stuck.any():
-        change, _ = ndimage.label((s0 != tgt) & mov, structure=np.ones((3, 3), bool))
-        undo = np.isin(change, np.unique(change[stuck]))
+        change, n = ndimage.label((s0 != tgt) & mov, structure=np.ones((3, 3), bool))
+        hit = np.zeros(n + 1, dtype=bool)
+        hit[change[stuck]] = True               # (label 0 too, as before, if a stuck pixel has it)
+        undo = hit[change]
         cur[undo] = s0[undo]
     # Fronts pressed a pixel apart by the coarse level: undo each region of change within `PRESS_REACH` of
     # such a pixel. A pixel farther than that from every change sees the start's window, and is pressed
@@ -492,12 +605,13 @@ def _homotopic(start: np.ndarray, target: np.ndarray, movable: np.ndarray) -> np
             pressed &= ~_pressed(s0, pressed)
         if not pressed.any():
             break
-        change, _ = ndimage.label(moved & mov, structure=eight)
-        hit = np.unique(change[ndimage.maximum_filter(pressed, size=reach)])
-        hit = hit[hit > 0]
-        if hit.size == 0:
+        change, n = ndimage.label(moved & mov, structure=eight)
+        hit = np.zeros(n + 1, dtype=bool)
+        hit[change[ndimage.maximum_filter(pressed, size=reach)]] = True
+        hit[0] = False
+        if not hit.any():
             break
-        undo = np.isin(change, hit)
+        undo = hit[change]
         cur[undo] = s0[undo]
     return cur[1:-1, 1:-1].copy()
 
@@ -547,11 +661,13 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
     band = _Band(P, mov)
     steps = 0
     flat = P.ravel()
-    comp = owner = None
+    comp = owner = foreign = None
     stale = own_front
     snapshot, last_flip = None, 0
     rested = iterations == 0 and band.idx.size == 0
-    last_topo, last_topo_flip = None, 0
+    # The topology rest test's first window starts with the level itself: its starting set is the one the
+    # first check compares with (the front test needs a window's worth of Φ first).
+    last_inside, last_topo_flip = ((P[1:-1, 1:-1] < 0) if rest == "topology" else None), 0
     for steps in range(1, iterations + 1):
         if band.idx.size == 0:
             steps -= 1
@@ -561,7 +677,14 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
         if stale:
             comp, owner = _fronts(P < 0, idx)
             stale = False
-        kappa, grad = _speed(P, idx, Wp, comp, owner)
+            foreign = None
+        if band.j is None:
+            band.j = _offsets(Wp)[:, None] + idx[None, :]
+            foreign = None
+        if own_front and foreign is None:
+            foreign = _ForeignCache(P, band, Wp, comp, owner)
+        kappa, grad = _speed(P, idx, Wp, comp, owner, j=band.j,
+                             foreign=foreign.result() if foreign is not None else None)
         kmax = float(np.abs(kappa).max()) if kappa.size else 0.0
         dt = 0.25 if kmax <= 4.0 else 1.0 / kmax
         old = flat[idx]
@@ -573,10 +696,8 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
         # behind it deeper, step after step, without moving the front: the front across the part (a thin
         # ring's other side) then has ever more to undo, and the part never vanishes.
         neg = new < 0
-        bound = np.full(idx.size, np.inf, dtype=np.float32)
-        for o in (1, -1, Wp, -Wp):
-            q = flat[idx + o]
-            bound = np.minimum(bound, np.where((q < 0) != neg, np.float32(1.0), np.abs(q) + np.float32(1.0)))
+        q = flat[band.j[:4]]                    # the four side neighbours (e, w, s, n), after the step
+        bound = np.where((q < 0) != neg, np.float32(1.0), np.abs(q) + np.float32(1.0)).min(axis=0)
         over = np.abs(new) > bound
         if over.any():
             new = np.where(over, np.copysign(bound, new), new).astype(np.float32)
@@ -595,12 +716,18 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
         if steps % STOP_WINDOW == 0 and rest == "topology" and stop > 0:
             # Only the homotopy class is needed (a minimum-perimeter finish follows): the level rests
             # when its parts and holes stayed the same over a whole window without a pixel changing a
-            # component or a hole.
-            topo = _topology_counts(P[1:-1, 1:-1] < 0)
-            if topo == last_topo and steps - last_topo_flip >= STOP_WINDOW:
+            # component or a hole, the first window included (from the level's starting set: a coarse
+            # level, which keeps its topology, then rests after one window, and the full-resolution level
+            # as soon as one window of its own passes without a change).
+            # (The counts are only needed when the window was quiet; the set at the window's start is
+            # kept, and counted then.)
+            inside_now = P[1:-1, 1:-1] < 0
+            if last_inside is not None and steps - last_topo_flip >= STOP_WINDOW and (
+                    np.array_equal(inside_now, last_inside)
+                    or _topology_counts(inside_now) == _topology_counts(last_inside)):
                 rested = True
                 break
-            last_topo = topo
+            last_inside = inside_now
         elif steps % STOP_WINDOW == 0:
             # Rest is judged on the net change over a window: a pixel that swings in place every step (at a
             # constraint's corner, say) moves Φ by a tenth of a pixel a step forever and never rests step
@@ -625,6 +752,7 @@ def _flow(phi: np.ndarray, movable: np.ndarray, iterations: int, stop: float,
                 stale = True
             else:
                 comp[pos], owner[pos] = owner[pos], comp[pos].copy()
+                foreign.changed(flat, pos, comp, owner)
     return P[1:-1, 1:-1].copy(), steps, rested
 
 
@@ -650,13 +778,50 @@ def _reinitialise(base: np.ndarray, inside: np.ndarray, movable: np.ndarray) -> 
     changed = (inside != (base < 0)) & movable
     if not changed.any():
         return base.copy()
-    if inside.any() and not inside.all():
-        phi = signed_distance(inside)
-    else:
-        phi = np.where(inside, -0.5, 0.5).astype(np.float32)
-    reach = ndimage.distance_transform_edt(~changed)
+    # Both distances are read only in ``movable``: on the box around it and the set (exact there, see
+    # `_signed_distance_within`; the changed pixels, all movable, lie in it too).
+    box = _box_around(inside | movable)
+    if box is None:
+        box = (slice(None), slice(None))
+    reach = np.full(base.shape, np.inf)
+    reach[box] = _edt(~changed[box])
     redo = movable & (reach <= np.abs(base) + 1.0)
-    return np.where(redo, phi, base).astype(np.float32)
+    out = base.copy()
+    if inside.any() and not inside.all():
+        out[redo] = _signed_distance_at(inside[box], np.flatnonzero(redo[box].ravel()))
+    else:
+        out[redo] = np.where(inside[redo], -0.5, 0.5)
+    return out
+
+
+def _signed_distance_at(M: np.ndarray, where: np.ndarray) -> np.ndarray:
+    """`signed_distance(M)` at the flat indices ``where`` only (float32), the same values: an inside
+    pixel's nearest outside pixel has an inside pixel beside it (the pixel one step back towards it,
+    along its longer axis, is nearer, so inside), and vice versa, so each distance is found by a k-d tree
+    of the pixels along the other side's edge, queried at ``where`` (a few tens of thousands of pixels
+    where two feature transforms would cover the whole array). ``M`` holds both values."""
+    from scipy.spatial import cKDTree
+
+    edge_in = M & ~_interior(M)
+    edge_out = ~M & ~_interior(~M)
+    ii, jj = np.unravel_index(where, M.shape)
+    at_in = M[ii, jj]
+    pts = np.column_stack([ii, jj]).astype(float)
+    d = np.empty(where.size)
+    for sel, edge in ((at_in, edge_out), (~at_in, edge_in)):
+        if sel.any():
+            d[sel] = cKDTree(np.argwhere(edge).astype(float)).query(pts[sel])[0]
+    return np.where(at_in, 0.5 - d, d - 0.5).astype(np.float32)
+
+
+def _interior(M: np.ndarray) -> np.ndarray:
+    """Pixels of M whose four side neighbours within the array are all in M."""
+    out = M.copy()
+    out[1:] &= M[:-1]
+    out[:-1] &= M[1:]
+    out[:, 1:] &= M[:, :-1]
+    out[:, :-1] &= M[:, 1:]
+    return out
 
 
 def _check_supersample(k, shape: tuple[int, int]) -> int:
@@ -744,7 +909,10 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
     stop : float
         Early stop: a level ends when no pixel has changed sign for `STOP_WINDOW` steps and over those
         steps Φ within a pixel of the front has changed, net, by less than this many pixels a step (net,
-        so that a pixel swinging in place does not keep a resting front flowing).
+        so that a pixel swinging in place does not keep a resting front flowing). With the
+        minimum-perimeter finish (the default), which needs only the homotopy class, a level rests
+        instead when over `STOP_WINDOW` steps (the first window starting with the level) no pixel
+        changed a component or a hole and their counts stayed the same; ``stop=0`` turns both tests off.
     supersample : int, odd, ≥ 1
         The mask is sampled this many times finer than the grid the flow runs on (1, the default, is the
         paper's method). The morphology (core, fillet, the initial set) is computed on the fine mask, and
@@ -819,7 +987,9 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
                                 fillet=F, r=r, init=init, levels=levels, iterations=[], timings=timings)
     t0 = time.perf_counter()
     start = {"core": R, "input": M, "mason": mason(M, r) if init == "mason" else None}[init]
-    phi0 = signed_distance(start) if start.any() and not start.all() else \
+    # Φ beyond the box around the fillet (and the start) is anticore's, set below: the start's signed
+    # distance is needed only in that box.
+    phi0 = _signed_distance_within(start, F) if start.any() and not start.all() else \
         np.where(start, -0.5, 0.5).astype(np.float32)
     # The constraints: Φ < 0 in the core and > 0 in the anticore, for good. There Φ is the signed distance
     # to the constraint's own edge (−½ and +½ on its first pixels), not to the initial set: a front that
@@ -829,11 +999,11 @@ def tighten(mask, r, *, init: str = "core", levels: int | None = None, iteration
     # would hold the front 0.7 px beyond the arc).
     if R.any():
         # From the core, Φ there already is ½ − its distance transform (in float32, which rounds the same).
-        own = phi0[R] if start is R and not R.all() else 0.5 - ndimage.distance_transform_edt(R)[R]
+        own = phi0[R] if start is R and not R.all() else 0.5 - _edt(R)[R]
         phi0[R] = np.maximum(own, sd_R[R])
     if not F.all():
         A = ~F
-        phi0[A] = np.minimum(ndimage.distance_transform_edt(A)[A] - 0.5, -sd_A[A])
+        phi0[A] = np.minimum(_edt(A)[A] - 0.5, -sd_A[A])
     if ss > 1:
         # The flow's grid: the centre pixel of each ss × ss block, Φ in its pixels. In the mortar Φ keeps the
         # fine distances, a fraction of a pixel; a constraint pixel stays at least ½ from the front, as at

@@ -29,16 +29,50 @@ _THICKEN = 1e-6
 
 def _squares(mask: np.ndarray):
     """Union of the True pixels' unit squares, x = column, y = −row (pixel (i, j) is [j, j+1] × [−i−1, −i]),
-    with collinear vertices removed."""
+    with collinear vertices removed.
+
+    Each row's runs of True pixels become boxes, and the boxes are joined by a coverage union, which
+    only dissolves the edges they share (several times faster than a general union on a mask of a
+    million pixels). A coverage needs shared edges to have the same vertices, so each box's bottom edge
+    also holds the ends of the next row's runs that fall inside it, and its top edge those of the row
+    above.
+    """
     m = np.asarray(mask, dtype=np.int8)
     if not m.any():
         return Polygon()
-    # Runs along each row: far fewer boxes to union than pixels.
+    H, W = m.shape
     d = np.diff(np.pad(m, ((0, 0), (1, 1))), axis=1)
     si, sj = np.nonzero(d == 1)             # row-major, so the k-th start and the k-th end pair up
     _, ej = np.nonzero(d == -1)
-    boxes = shapely.box(sj, -si - 1, ej, -si)
-    return shapely.union_all(boxes).simplify(0)
+    # Every run end, keyed by (row, x) and sorted: the ends of row i inside (a, b) are one slice of it.
+    stride = np.int64(W + 2)
+    row_key = si.astype(np.int64) * stride
+    ends = np.sort(np.concatenate([row_key + sj, row_key + ej]))
+
+    def inside(row: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        base = row.astype(np.int64) * stride
+        lo = np.searchsorted(ends, base + sj, side="right")
+        hi = np.searchsorted(ends, base + ej, side="left")
+        return lo, np.where((row >= 0) & (row < H), np.maximum(hi, lo), lo)
+
+    blo, bhi = inside(si + 1)               # on the bottom edge (y = −i − 1): the next row's run ends
+    tlo, thi = inside(si - 1)               # on the top edge (y = −i): the previous row's
+    nb, nt = bhi - blo, thi - tlo
+    # Each ring: bottom-left, the bottom edge's points (x increasing), bottom-right, top-right, the top
+    # edge's points (x decreasing), top-left, and bottom-left again to close it.
+    count = nb + nt + 5
+    box = np.repeat(np.arange(si.size), count)
+    k = np.arange(box.size) - np.repeat(np.cumsum(count) - count, count)
+    nbk, ntk = nb[box], nt[box]
+    x = np.where(k <= nbk, sj[box], ej[box]).astype(float)
+    y = np.where((k <= nbk + 1) | (k == nbk + ntk + 4), -si[box] - 1.0, -si[box] * 1.0)
+    x[k >= nbk + ntk + 3] = sj[box][k >= nbk + ntk + 3]
+    on_b = (k >= 1) & (k <= nbk)
+    x[on_b] = ends[blo[box[on_b]] + k[on_b] - 1] - (si[box[on_b]] + 1) * stride
+    on_t = (k >= nbk + 3) & (k < nbk + ntk + 3)
+    x[on_t] = ends[thi[box[on_t]] - 1 - (k[on_t] - nbk[on_t] - 3)] - (si[box[on_t]] - 1) * stride
+    rings = shapely.linearrings(np.column_stack([x, y]), indices=box)
+    return shapely.coverage_union_all(shapely.polygons(rings)).simplify(0)
 
 
 def _part_mask(part, shape) -> np.ndarray:

@@ -123,3 +123,30 @@ def test_loops_that_come_within_a_pixel_but_do_not_touch_stay_apart():
     out = mpp_finish(core, core, fillet)
     from scipy import ndimage
     assert ndimage.label(out, structure=np.ones((3, 3), bool))[1] == 2
+
+
+def test_squares_is_the_union_of_the_pixel_squares():
+    """`_squares` (a coverage union of row boxes) is the union of the True pixels' unit squares: the same
+    polygons as a general union, parts that touch at a corner kept apart, holes kept."""
+    import shapely
+
+    from raster.mpp import _squares
+
+    rng = np.random.default_rng(7)
+    masks = [rng.random(tuple(rng.integers(1, 12, 2))) < rng.random() for _ in range(80)]
+    masks.append(np.array([[1, 0, 1], [0, 1, 0], [1, 0, 1]], bool))         # corners only
+    ring = np.ones((5, 5), bool)
+    ring[2, 2] = False
+    masks.append(ring)                                                       # one hole
+    for m in masks:
+        if not m.any():
+            assert _squares(m).is_empty
+            continue
+        ii, jj = np.nonzero(m)
+        want = shapely.union_all(shapely.box(jj, -ii - 1, jj + 1, -ii))
+        got = _squares(m)
+        assert got.is_valid and got.equals(want)
+        assert len(shapely.get_parts(got)) == len(shapely.get_parts(want))
+        assert got.area == m.sum()
+    assert len(shapely.get_parts(_squares(masks[-2]))) == 5
+    assert len(_squares(ring).interiors) == 1

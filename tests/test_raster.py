@@ -405,3 +405,111 @@ def test_a_resting_front_stops_the_level_though_a_pixel_swings_in_place():
             full = raster.tighten(m, 12, init=init, iterations=3000, stop=0.0)
         assert full.iterations == [3000] * full.levels
         assert (T.mask != full.mask).sum() <= 0.002 * T.mask.sum()
+
+
+def test_edt_helpers_match_scipy():
+    """`raster.morphology._edt` gives `scipy.ndimage.distance_transform_edt`'s values bit for bit."""
+    from raster.morphology import _edt
+
+    rng = np.random.default_rng(11)
+    for _ in range(60):
+        m = rng.random(tuple(rng.integers(1, 30, 2))) < rng.random()
+        want = ndimage.distance_transform_edt(m)
+        got = _edt(m)
+        assert got.dtype == want.dtype and np.array_equal(got, want)
+
+
+def test_nearest_fitting_corner_is_exact():
+    """`_dist_to_corners` finds the nearest fitting corner of every asked pixel (brute force)."""
+    from raster.morphology import _dist_to_corners
+
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        fits = rng.random((15, 17)) < 0.05
+        fits[rng.integers(15), rng.integers(17)] = True
+        where = rng.choice(fits.size, 40, replace=False)
+        fi, fj = np.nonzero(fits)
+        ii, jj = np.unravel_index(where, fits.shape)
+        brute = np.hypot(ii[:, None] - fi[None, :] - 0.5, jj[:, None] - fj[None, :] - 0.5).min(axis=1)
+        assert np.allclose(_dist_to_corners(fits, where), brute, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("border", ["false", "true", "mixed"])
+def test_morphology_padding_per_side_is_exact(border):
+    """`_core_fillet_both` pads the mask as little as each opening needs (`_opening_pads`): the same
+    core, fillet and signed distances, pixel for pixel, as with `_pad`'s full width for both."""
+    from raster.morphology import _core_fillet_both, _crop, _opening, _opening_pads
+
+    rng = np.random.default_rng({"false": 1, "true": 2, "mixed": 3}[border])
+    for _ in range(12):
+        h, w = rng.integers(20, 50, 2)
+        yy, xx = np.mgrid[:h, :w]
+        m = np.zeros((h, w), bool)
+        for _ in range(4):
+            m ^= (yy - rng.uniform(-5, h + 5)) ** 2 + (xx - rng.uniform(-5, w + 5)) ** 2 < rng.uniform(3, 15) ** 2
+        if border == "false":
+            m[[0, -1]] = False
+            m[:, [0, -1]] = False
+        elif border == "true":
+            m[[0, -1]] = True
+            m[:, [0, -1]] = True
+        if not m.any() or m.all():
+            continue
+        r = float(rng.choice([1.5, 2.0, 3.3, 5.0, 7.5]))
+        pc, pa = _opening_pads(m, r)
+        if border == "false":
+            assert pc == 1 and pa < 2 * math.ceil(r) + 1
+        p = 2 * math.ceil(r) + 1
+        P = np.pad(m, p, mode="edge")
+        R, Rc, dR = (_crop(a, p) for a in _opening(P, r, parts=True))
+        A, Ac, dA = (_crop(a, p) for a in _opening(~P, r, parts=True))
+        got = _core_fillet_both(m, r)
+        for a, b in zip(got, (R, ~A, Rc, ~Ac, dR, dA)):
+            assert np.array_equal(a, b)
+
+
+def test_incremental_foreign_neighbours_match_a_fresh_search(monkeypatch):
+    """The flow keeps `_speed`'s foreign-neighbour mask from step to step (`_ForeignCache`); searched
+    afresh at every step instead, the flow gives the same Φ bit for bit (an L and a bar two pixels
+    apart, from the input: corners move with another front two pixels away; not updating the mask
+    at all gives another Φ here, so the comparison has teeth)."""
+    import raster.flow as fl
+
+    m = np.zeros((40, 40), bool)
+    m[5:35, 5:12] = True                        # an L, and a bar two pixels from both its arms
+    m[28:35, 5:30] = True
+    m[5:25, 14:20] = True
+    R, F, *_ = fl._core_fillet_both(m, 3.0)
+    phi = fl.signed_distance(m)                 # from the input: its corners move in
+    mov = F & ~R
+    want = fl._flow(phi.copy(), mov, 120, 0.0)
+    calls = []
+
+    def afresh(self, flat, pos, comp, owner):
+        calls.append(pos.size)
+        self.full = fl._foreign_at(flat, self.idx, self.j, comp, owner)
+        self._result = None
+
+    monkeypatch.setattr(fl._ForeignCache, "changed", afresh)
+    got = fl._flow(phi.copy(), mov, 120, 0.0)
+    assert calls
+    assert got[1] == want[1] and np.array_equal(got[0], want[0])
+    monkeypatch.setattr(fl._ForeignCache, "changed", lambda self, *a: None)
+    stale = fl._flow(phi.copy(), mov, 120, 0.0)
+    assert not np.array_equal(stale[0], want[0])
+
+
+def test_signed_distance_at_a_few_pixels_is_the_same():
+    """`_signed_distance_at` (a k-d tree of each side's edge pixels) gives `signed_distance`'s values,
+    bit for bit, at the pixels asked for."""
+    from raster.flow import _signed_distance_at
+
+    rng = np.random.default_rng(9)
+    for _ in range(80):
+        m = rng.random(tuple(rng.integers(2, 40, 2))) < rng.random()
+        if not m.any() or m.all():
+            continue
+        where = rng.choice(m.size, min(m.size, 30), replace=False)
+        got = _signed_distance_at(m, where)
+        want = raster.signed_distance(m).ravel()[where]
+        assert got.dtype == want.dtype and np.array_equal(got, want)
