@@ -10,7 +10,8 @@ from shapely import affinity
 from shapely.geometry import MultiPolygon, Polygon
 
 import vectortighten as vt
-from vectortighten import engine
+
+from .engines import assert_same, general
 
 # A building footprint whose ring has steps shorter than 2r (the general engine's) and one the fast path
 # takes; the coarse check of a fast result (`_guard.containment_problems`) flags the first's correct
@@ -40,21 +41,6 @@ def comb(teeth, x0=0.0, r=1.0):
     return Polygon(pts + [(end, 0.5 * r), (end, -3 * r), (x0, -3 * r)])
 
 
-def _general(S, r, init="core"):
-    S = vt._validation.check_shape(S)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return engine._tighten(S, r, engine.Init(init), 1e-5 * r, allow_fast=False)
-
-
-def _same(T, G):
-    """The same tightening: loops, perimeter and area equal to rounding, no area between the two."""
-    assert len(T.loops) == len(G.loops)
-    assert T.perimeter == pytest.approx(G.perimeter, rel=1e-12)
-    assert T.area == pytest.approx(G.area, rel=1e-12)
-    assert T.geometry.symmetric_difference(G.geometry).area <= 1e-9 * G.area
-
-
 @pytest.mark.parametrize("init", ["core", "input", "mason"])
 def test_a_fast_part_far_from_a_general_one_skips_the_general_engine(init):
     S = MultiPolygon([star(800), comb(6, x0=40.0)])
@@ -64,7 +50,7 @@ def test_a_fast_part_far_from_a_general_one_skips_the_general_engine(init):
     assert T._cache["_path"] == "split"
     assert [m._cache["_path"] for m in T._cache["_members"]] == ["fast", "general"]
     assert T.converged and T.verify() == []
-    _same(T, _general(S, 1.0, init))
+    assert_same(T, general(S, 1.0, init))
 
 
 def test_parts_nearer_than_3r_stay_together():
@@ -76,7 +62,7 @@ def test_parts_nearer_than_3r_stay_together():
     assert vt.tighten(near, 1.0)._cache["_path"] == "general"
     T = vt.tighten(far, 1.0)
     assert T._cache["_path"] == "split" and T.verify() == []
-    _same(T, _general(far, 1.0))
+    assert_same(T, general(far, 1.0))
 
 
 def test_each_group_is_checked_as_its_own_path_result():
@@ -88,7 +74,7 @@ def test_each_group_is_checked_as_its_own_path_result():
     assert T._cache["_path"] == "split" and T.converged
     assert sorted(m._cache["_path"] for m in T._cache["_members"]) == ["fast", "general"]
     assert T.verify() == []
-    _same(T, _general(S, 1.0))
+    assert_same(T, general(S, 1.0))
 
 
 def test_only_general_groups_take_the_whole_shape_as_before():
@@ -104,4 +90,4 @@ def test_a_group_the_convex_path_takes_verifies_as_such():
     T = vt.tighten(S, 1.0)
     assert sorted(m._cache["_path"] for m in T._cache["_members"]) == ["convex", "general"]
     assert T.converged and T.verify() == []
-    _same(T, _general(S, 1.0))
+    assert_same(T, general(S, 1.0))

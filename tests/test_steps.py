@@ -15,23 +15,9 @@ from hypothesis import strategies as st
 from shapely.geometry import Polygon
 
 import vectortighten as vt
-from vectortighten import engine
 
+from .engines import assert_same, general
 from .oracle import judge
-
-
-def _general(S, r, init="core"):
-    S = vt._validation.check_shape(S)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return engine._tighten(S, r, engine.Init(init), 1e-5 * r, allow_fast=False)
-
-
-def _same(T, G):
-    assert len(T.loops) == len(G.loops)
-    assert T.perimeter == pytest.approx(G.perimeter, rel=1e-10)
-    assert T.area == pytest.approx(G.area, rel=1e-10)
-    assert T.geometry.symmetric_difference(G.geometry).area <= 1e-9 * G.area
 
 
 def _exact(S, r, T):
@@ -61,7 +47,7 @@ def test_a_right_angled_step_lower_than_r(h, init):
     c = _centres(T)
     for x, y in ((-a, r), (a, h - r)):
         assert np.hypot(c[:, 0] - x, c[:, 1] - y).min() < 1e-12
-    _same(T, _general(S, r, init))
+    assert_same(T, general(S, r, init), rel=1e-10)
     _exact(S, r, T)
 
 
@@ -78,7 +64,7 @@ def test_a_gentle_step_keeps_its_corner_disks():
     t = r * math.tan(math.pi / 12)
     for cx, cy in ((-t, r), (x + t, y - r)):
         assert np.hypot(c[:, 0] - cx, c[:, 1] - cy).min() < 1e-12
-    _same(T, _general(S, r))
+    assert_same(T, general(S, r), rel=1e-10)
     _exact(S, r, T)
 
 
@@ -115,7 +101,7 @@ def test_bridged_results_are_the_general_engines(S, init):
         return
     T = vt.tighten(S, 1.0, init=init)
     assert T._cache["_path"] == "fast" and T.verify() == []
-    _same(T, _general(S, 1.0, init))
+    assert_same(T, general(S, 1.0, init), rel=1e-10)
     _exact(S, 1.0, T)
 
 
@@ -133,7 +119,7 @@ def test_a_slid_disk_at_a_grazing_angle_passes_the_final_check():
         warnings.simplefilter("error")
         T = vt.tighten(S, 0.6)
     assert T._cache["_path"] == "fast" and T.converged and T.verify() == []
-    _same(T, _general(S, 0.6))
+    assert_same(T, general(S, 0.6), rel=1e-10)
     _exact(S, 0.6, T)
 
 
@@ -151,5 +137,5 @@ def test_two_steps_in_a_row_before_a_corner():
     y = a[1] + math.sqrt(r * r - (x - a[0]) ** 2)  # ... and r from the middle vertex
     c = _centres(T)
     assert np.hypot(c[:, 0] - x, c[:, 1] - y).min() < 1e-12
-    _same(T, _general(S, r))
+    assert_same(T, general(S, r), rel=1e-10)
     _exact(S, r, T)
