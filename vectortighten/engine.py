@@ -1247,6 +1247,10 @@ def _exact_depths(ctx: _Context, L: _DiskLoop, limit: float = 0.0) -> tuple[floa
     return _exact_depths_many(ctx, [L], limit)[0]
 
 
+#: `_exact_depths_many` sets aside the straight pieces that lie on an edge of S (off: every piece measured).
+_SKIP_ON_EDGES = True
+
+
 def _exact_depths_many(ctx: _Context, loops: list[_DiskLoop], limit: float = 0.0) -> list[tuple[float, float]]:
     """`_exact_depths` of every loop, with one query of the obstacle index for all of them."""
     r = ctx.r
@@ -1310,8 +1314,29 @@ def _exact_depths_many(ctx: _Context, loops: list[_DiskLoop], limit: float = 0.0
     if len(ctx.oedges) == 0:
         return [(dk[1], dk[-1]) for dk in depth]
     owner = np.array(owner, dtype=np.int64)
+    cp, cq = np.concatenate(cp), np.concatenate(cq)
+    if _SKIP_ON_EDGES and not ctx.zero and limit > 0:
+        # A straight piece lying on an edge of S (both its ends within limit/2 of that one edge) enters
+        # neither region deeper than limit/2: every point of ∂S is at distance r or more from S↓r and
+        # from (S^c)↓r, and the distance to a segment is convex along another. Such pieces (most of a
+        # fast-path loop's) need no query.
+        seg_rows = np.flatnonzero([k == "seg" for k, _ in pieces])
+        if len(seg_rows):
+            ends = np.concatenate([[pieces[i][1][0] for i in seg_rows], [pieces[i][1][1] for i in seg_rows]])
+            edge, dist = ctx._s_tree.query_nearest(shapely.points(ends), return_distance=True, all_matches=False)
+            near = np.zeros(len(ends), dtype=np.int64)
+            near[edge[0]] = edge[1]
+            close = np.zeros(len(ends), dtype=bool)
+            close[edge[0]] = dist <= 0.5 * limit
+            m = len(seg_rows)
+            on_s = close[:m] & close[m:] & (near[:m] == near[m:])
+            if on_s.any():
+                drop = np.zeros(len(pieces), dtype=bool)
+                drop[seg_rows[on_s]] = True
+                chord = ~drop[owner]
+                cp, cq, owner = cp[chord], cq[chord], owner[chord]
     reach = r - limit + ctx.osag + sag + 1e-12 * r
-    ci, ei = ctx.oindex.near_segments(np.concatenate(cp), np.concatenate(cq), reach)
+    ci, ei = ctx.oindex.near_segments(cp, cq, reach)
     li, pj = owner[ci], ctx.opiece[ei]
     order = np.lexsort((pj, li))
     li, pj = li[order], pj[order]
