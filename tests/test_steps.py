@@ -139,3 +139,63 @@ def test_two_steps_in_a_row_before_a_corner():
     assert np.hypot(c[:, 0] - x, c[:, 1] - y).min() < 1e-12
     assert_same(T, general(S, r), rel=1e-10)
     _exact(S, r, T)
+
+
+def test_a_jog_whose_middle_corner_the_loop_passes_by():
+    # Up 0.3, right 0.4, up again (r = 1). The reflex corner (0, 0.3) between the two steps has a tangent r
+    # longer than both: its (outside) disk touches neither of its edges but rests on (0, 0) and
+    # (0.4, 0.3), sqrt(r² − 0.25²) from the middle of the line between them. The convex corners' disks
+    # slide until they meet the middle vertex: to (−√(2·0.3 − 0.09), 1) along y = 0 and to (−0.6, 1.1)
+    # along x = 0.4. The middle disk lies beyond their common tangent, which the loop runs along: the
+    # middle corner is not on the loop, but its disk cuts the offset curves the checks measure against.
+    r = 1.0
+    S = Polygon([(-10, 0), (0, 0), (0, 0.3), (0.4, 0.3), (0.4, 10), (-10, 10)])
+    T = vt.tighten(S, r)
+    assert T._cache["_path"] == "fast" and T.verify() == []
+    a, b = (-math.sqrt(0.6 - 0.09), 1.0), (-0.6, 1.1)
+    c = _centres(T)
+    assert len(c) == 5                              # the two slid disks and the block's three corners
+    for x, y in (a, b):
+        assert np.hypot(c[:, 0] - x, c[:, 1] - y).min() < 1e-12
+    pieces = [p for L in T.loops for p in L.pieces]
+    tangent = math.hypot(b[0] - a[0], b[1] - a[1])
+    assert min(abs(p.length - tangent) for p in pieces) < 1e-12
+    for init in ("core", "input", "mason"):
+        T = vt.tighten(S, r, init=init)
+        assert_same(T, general(S, r, init), rel=1e-10)
+        _exact(S, r, T)
+
+
+def test_a_neck_narrower_than_2r_parts_the_core():
+    # Squares of 10 and 10.5 overlapping in a 0.5 × 0.5 corner: the neck, 0.5·√2 wide, lets no disk of radius 1
+    # through, so the core has two rings and init="core" gives two loops (the general engine's); the
+    # offset arcs about the neck's two reflex corners cross nearer than r to S, which the fast path now
+    # sees. init="input" keeps one loop through the neck.
+    S = shapely.box(0, 0, 10, 10).union(shapely.box(9.5, 9.5, 20, 20))
+    T = vt.tighten(S, 1.0)
+    assert len(T.loops) == 2 and T._cache["_path"] == "general"
+    assert abs(T.perimeter - (40 - 8 + 2 * math.pi) - (42 - 8 + 2 * math.pi)) < 1e-9
+    T = vt.tighten(S, 1.0, init="input")
+    assert len(T.loops) == 1 and T._cache["_path"] == "fast"
+    assert_same(T, general(S, 1.0, "input"), rel=1e-10)
+
+
+def test_a_cut_away_piece_must_be_nearer_than_r_to_s():
+    # `_covered` on a wall along y = 0 (r = 1): a segment at height 0.5 is covered; one at height 1 is
+    # not, but for an end kept (exactly r away there is the moved centre); an arc about (0, 0) is covered
+    # where it dips below y = 1 only.
+    from vectortighten import _fast
+    from vectortighten import morphology as M
+
+    D = _fast._Rings(M._orient(shapely.box(-10, -10, 10, 0)), 1.0)
+    p, q = np.array([-2.0, 0.5]), np.array([2.0, 0.5])
+    assert _fast._covered(D, [("seg", (p, q), False, False)])
+    high = (np.array([-2.0, 1.0]), np.array([2.0, 1.0]))
+    assert not _fast._covered(D, [("seg", high, False, False)])
+    rising = (np.array([-2.0, 0.5]), np.array([-2.0, 1.0]))
+    assert _fast._covered(D, [("seg", rising, False, True)])
+    assert not _fast._covered(D, [("seg", rising, True, False)])
+    centre = np.array([0.0, 0.0])
+    assert _fast._covered(D, [("arc", (centre, 0.1, 1.2), False, False)])
+    assert not _fast._covered(D, [("arc", (centre, 0.1, 1.5), False, False)])
+    assert _fast._covered(D, [("arc", (centre, 0.1, math.pi / 2 - 0.1), False, True)])

@@ -11,15 +11,20 @@ shape of building footprints and CAD outlines — are taken too (`_bridge_steps`
 step on the inner tangent of its two corner disks, each disk where it touches both its edges, or, when its
 own tangent is longer than the step, slid along the other edge until it meets the step's far end. The
 same exact tests then run on the moved disks and the trimmed offset curves, and each bridge is measured
-exactly against both offset curves (`_bridges_clear`). Steps may follow one another (a jog just before a
-corner) as long as no disk has to slide along a step; a short edge between two corners of the same side
-(a notch's floor, a small bevel) goes to the general engine.
+exactly against both offset curves (`_bridges_clear`). Steps may follow one another (a jog, a staircase
+of a few treads): a disk may slide along a step, a corner between two steps too short for its tangent
+rests on both far ends, and a corner whose disk lies beyond its neighbours' common tangent is passed by.
+What the moved disks cut from the offset curves is proven nearer than r to S (`_covered`). A short edge
+between two corners of the same side (a notch's floor, a small bevel) goes to the general engine.
 
 Why the checks suffice: the straight pieces lie on the boundary of S, which never meets the (open) core or
 anticore; a valid disk at a convex vertex lies in S, so its arc cannot enter the anticore, and an arc that
 does not enter the core lies on its boundary (and symmetrically at reflex vertices). The region between
 a ring and its tightened loop is a union of corner cusps, none of which can hold a disk of radius r, so
-the loop is homotopic to the ring in the mortar.
+the loop is homotopic to the ring in the mortar. For ``init="core"`` (and ``"mason"``) it must be
+homotopic to the core's boundary too, which has one ring for each ring of S only when the shrink does:
+a neck narrower than 2r parts the core. The certificates show it; without them, every point of the
+offset curves must be r from S (`_reaches_edges`).
 
 How it is checked: from the edges of S alone, never from GEOS's buffers (which simplify dense input by up
 to r/100, more than any slack could allow). Disk centres and straight pieces must keep distance r from
@@ -139,6 +144,7 @@ class _Rings:
         self.length = self.ell - self.t - self._succ(self.t)            # straight piece on edge i
         self.phi = np.arctan2(uy, ux)
         self.bridged = np.zeros(0, dtype=np.int64)     # edges whose step a bridge crosses (`_bridge_steps`)
+        self.dropped = None                            # corners the loop passes by (`_bridge_steps`)
         self._offsets, self._arcs = {}, {}
         self._sagitta = None
 
@@ -277,9 +283,11 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
             return None
     if len(D.bridged) and not _bridges_clear(D):
         return None
+    slices = D.slices if D.dropped is None or not D.dropped.any() else \
+        [np.flatnonzero(~D.dropped[sl]) + sl.start for sl in D.slices]
     if D.pair:
-        return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl], D.rv[sl]) for sl in D.slices]
-    return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl]) for sl in D.slices]
+        return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl], D.rv[sl]) for sl in slices]
+    return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl]) for sl in slices]
 
 
 # -- steps: a convex and a reflex corner closer than their disks' tangents ---------------------------------
@@ -290,8 +298,17 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
 # the far end of the step (the core's corner there is tangent to the edge before the step and passes
 # through the step's reflex end; the anticore's likewise on the other side). The offset curves change with
 # it: the offset of the stepped edge on that side is gone, and the arc about the far end starts (ends) at
-# the moved centre. A disk that would have to slide along a step, and a short edge between corners of the
-# same side, are left to the general engine.
+# the moved centre; what is cut away must be nearer than r to S everywhere (`_covered`), so that none of it
+# was on the shrink's (grow's) boundary.
+#
+# In a run of steps (a jog, a staircase) a disk may slide along an edge that is itself a step, as long as
+# its foot stays on that edge. A corner between two steps whose tangent is longer than both is *wedged*:
+# its disk touches neither of its edges but rests on their far ends, the two vertices next to it, on its
+# own side of the line between them (they must be less than 2r apart). A corner between two bridges that
+# would turn the wrong way is *passed by*: its disk lies beyond the common tangent of its neighbours'
+# disks (of the other side, so of one side with each other), and the loop runs along that tangent; its
+# disk still shapes the offset curves. A disk two steps would slide, two corners passed by in a row, and
+# a short edge between corners of the same side are left to the general engine.
 
 def _bridge_steps(D: _Rings) -> bool:
     """Bridge every step of S (see above) in place: centres, lengths, turns, offsets, arcs; False if some
@@ -305,24 +322,40 @@ def _bridge_steps(D: _Rings) -> bool:
     arcs = {side: tuple(a.copy() for a in D.arcs(side)) for side in (1, -1)}  # about the original corners
     # Where each edge's straight piece starts and ends, as distances from its two vertices.
     foot_start, foot_end = D.t.copy(), D._succ(D.t)
-    moved = {}
+    moved = {}                                  # corner -> the step whose far end its disk slid to
+    # A corner between two steps whose tangent is longer than both (a jog's middle corner, a bump or a
+    # dent narrower than 2r) is wedged: its disk touches neither of its edges but the far ends of both
+    # steps, on its own side of the line between them.
+    for k in np.intersect1d(bad, nxt).tolist():
+        a, b = D.v[D.prev[k]], D.v[D.next[k]]
+        if not (D.t[k] > D.ell[D.prev[k]] and D.t[k] > D.ell[k]):
+            continue
+        w = b - a
+        half = 0.5 * math.hypot(w[0], w[1])
+        if not half < r * (1 - 1e-9):
+            return False
+        depth = math.sqrt(r * r - half * half) / (2.0 * half)
+        D.c[k] = 0.5 * (a + b) + D.side[k] * depth * np.array([-w[1], w[0]])
+        moved[k] = _WEDGED
     for i, j in zip(bad.tolist(), nxt.tolist()):
         h = int(D.prev[i])
-        if D.t[i] > D.ell[i]:
-            # Corner i's disk slides forward along edge h's offset until it meets vertex j; it cannot
-            # when edge h is a step too.
+        if D.t[i] > D.ell[i] and moved.get(i) is not _WEDGED:
+            # Corner i's disk slides forward along edge h's offset until it meets vertex j. Edge h may be
+            # a step too (a jog): the disk must then still touch it, its foot no farther back than h's
+            # start. A disk that two steps would slide is left to the general engine.
             base = D.v[i] + D.side[i] * r * D.n[h]
-            x = None if short[h] else _circle_hit(base, D.u[h], D.v[j], r, first=True)
-            if x is None or x > 0:
+            x = _circle_hit(base, D.u[h], D.v[j], r, first=True)
+            if x is None or x > 0 or i in moved or (short[h] and -x > D.ell[h]):
                 return False
             D.c[i] = base + x * D.u[h]
             foot_end[h] = -x
-            moved[i] = j
-        if D.t[j] > D.ell[i]:
-            # Corner j's disk slides back along edge j's offset until it meets vertex i.
+            moved[i] = i
+        if D.t[j] > D.ell[i] and moved.get(j) is not _WEDGED:
+            # Corner j's disk slides back along edge j's offset until it meets vertex i (edge j may be a
+            # step, as above).
             base = D.v[j] + D.side[j] * r * D.n[j]
-            x = None if short[j] else _circle_hit(base, D.u[j], D.v[i], r, first=False)
-            if x is None or x < 0:
+            x = _circle_hit(base, D.u[j], D.v[i], r, first=False)
+            if x is None or x < 0 or j in moved or (short[j] and x > D.ell[j]):
                 return False
             D.c[j] = base + x * D.u[j]
             foot_start[j] = x
@@ -341,17 +374,39 @@ def _bridge_steps(D: _Rings) -> bool:
             return False
         D.phi[i] = math.atan2(w[1], w[0]) + D.side[i] * math.asin(2.0 * r / d)
         D.length[i] = math.sqrt(d * d - 4.0 * r * r)
+    # A corner between two bridges that would turn the wrong way is not touched by the loop: its disk
+    # lies beyond the common tangent of its neighbours' disks (of the other side, so of one side), and
+    # the loop runs along that tangent from one to the other. Its disk still shapes the offset curves.
+    dropped = np.zeros(len(D.v), bool)
+    for k in np.intersect1d(bad, nxt).tolist():
+        h = int(D.prev[k])
+        if _wrap(D.phi[k] - D.phi[h]) * D.side[k] > 0:
+            if moved.get(k) is _WEDGED:
+                # Not met on footprints, jogs or random turns (a wedged corner's neighbours' disks pass
+                # through it): left to the general engine rather than taken untested.
+                return False
+            continue
+        b = int(D.next[k])
+        if dropped[h]:
+            return False
+        w = D.c[b] - D.c[h]
+        D.phi[h] = D.phi[k] = math.atan2(w[1], w[0])
+        D.length[h], D.length[k] = math.hypot(w[0], w[1]), 0.0
+        dropped[k] = True
     # The turn at every corner a bridge leaves or reaches, from the directions it now joins.
     ends = np.unique(np.concatenate([bad, nxt]))
-    for v in ends.tolist():
+    for v in ends[~dropped[ends]].tolist():
         turn = _wrap(D.phi[v] - D.phi[D.prev[v]])
         if not turn * D.side[v] > 0:
             return False
         D.theta[v] = turn
-    D.bridged = bad
+    D.theta[dropped] = 0.0
+    D.bridged, D.dropped = bad, dropped
     D._sagitta = None
     # The offset curves: the stepped edge's offset is gone on a side whose disk moved (a point at the
-    # centre), and the arc about the step's other end starts or ends at the moved centre.
+    # centre), and the arc about the step's other end starts or ends at the moved centre. What is cut
+    # away must be nearer than r to S (`_covered`): then none of it is on the shrink's (grow's) boundary.
+    cut_away = []
     for side in (1, -1):
         a, b = D._offset_ends(side)
         centres, start, sweep = arcs[side]
@@ -359,8 +414,10 @@ def _bridge_steps(D: _Rings) -> bool:
         for i in bad.tolist():
             j = int(D.next[i])
             mine, far = (i, j) if D.side[i] == side else (j, i)
-            if mine not in moved:
+            if moved.get(mine) not in (i, _WEDGED):   # not moved, or moved for its other edge's step
                 continue
+            # The offset of edge i runs between the moved centre (kept, a point now) and the far arc.
+            cut_away.append(("seg", (a[i].copy(), b[i].copy()), mine == i, mine == j))
             a[i] = b[i] = D.c[mine]
             n = k_of[far]
             ang = math.atan2(*(D.c[mine] - D.v[far])[::-1])
@@ -368,14 +425,124 @@ def _bridge_steps(D: _Rings) -> bool:
                 cut = _wrap(ang - start[n])
                 if cut * sweep[n] < 0 or abs(cut) > abs(sweep[n]):
                     return False
+                cut_away.append(("arc", (D.v[far], start[n], cut), False, True))
                 start[n], sweep[n] = ang, sweep[n] - cut
             else:                               # the arc about i ends where centre j meets it
                 keep = _wrap(ang - start[n])
                 if keep * sweep[n] < 0 or abs(keep) > abs(sweep[n]):
                     return False
+                cut_away.append(("arc", (D.v[far], ang, sweep[n] - keep), True, False))
                 sweep[n] = keep
         D._arcs[side] = (centres, start, sweep)
+    return _covered(D, cut_away)
+
+
+_KEPT = 1e-9          # `_covered`: crossings this near a kept end (a fraction of the piece) are that end
+
+
+def _covered(D: _Rings, pieces) -> bool:
+    """Whether every point of each piece, but the ends marked kept, is nearer than r to an edge of S.
+
+    ``pieces``: ``(kind, geometry, keep_start, keep_end)``, a segment ``("seg", (p, q))`` or an arc of
+    radius r ``("arc", (centre, start, sweep))``. Such a point is not on the boundary of the shrink or the
+    grow (every point of which is exactly r from S), so the piece can be cut from the raw offset curves.
+
+    Exact up to rounding: the points nearer than r to an edge form an open capsule, convex, so along a
+    piece the set it covers changes only where the piece crosses the capsule's boundary (two circles about
+    the ends and four lines). Between consecutive such crossings of all the nearby edges' capsules, the
+    piece is covered throughout or nowhere: one point in each stretch, and each crossing itself, decide.
+    """
+    if not pieces:
+        return True
+    r = D.r
+    edges = shapely.linestrings(np.stack([D.v, D.v[D.next]], axis=1))
+    tree = shapely.STRtree(edges)
+    for kind, geom, keep0, keep1 in pieces:
+        if kind == "seg":
+            p, q = geom
+            w = q - p
+            probe = shapely.linestrings([p, q]) if (w != 0).any() else shapely.points(p)
+        else:
+            o, s0, sw = geom
+            if sw == 0:
+                continue
+            probe = shapely.points(o)
+        reach = r if kind == "seg" else 2.0 * r
+        e = tree.query(probe, predicate="dwithin", distance=reach * (1 + 1e-9))
+        if not len(e):
+            return False
+        a, b = D.v[e], D.v[D.next[e]]
+        d = b - a
+        L = np.hypot(d[:, 0], d[:, 1])
+        u = d / L[:, None]
+        nrm = np.column_stack([-u[:, 1], u[:, 0]])
+        # Each capsule's boundary: the circles about a and b, and the lines (x − a)·m = k.
+        circles = np.concatenate([a, b])
+        lines_m = np.concatenate([nrm, nrm, u, u])
+        lines_k = np.concatenate([np.full(len(e), r), np.full(len(e), -r), np.zeros(len(e)), L])
+        lines_a = np.concatenate([a, a, a, a])
+        lines_k = lines_k + (lines_a * lines_m).sum(axis=1)       # x·m = k
+        if kind == "seg":
+            crit = _segment_crossings(p, w, circles, lines_m, lines_k, r)
+        else:
+            crit = _arc_crossings(o, s0, sw, circles, lines_m, lines_k, r)
+        # A kept end is exactly r from S (a moved centre, where the far vertex's circle passes): the
+        # crossing there, found again within rounding, is that end.
+        lo, hi = (_KEPT if keep0 else 0.0), (1.0 - _KEPT if keep1 else 1.0)
+        crit = np.unique(np.concatenate([[0.0, 1.0], crit[(crit > lo) & (crit < hi)]]))
+        tau = np.concatenate([crit, 0.5 * (crit[1:] + crit[:-1])])
+        tau = tau[~(((tau == 0) & keep0) | ((tau == 1) & keep1))]
+        if kind == "seg":
+            x = p + tau[:, None] * w
+        else:
+            th = s0 + tau * sw
+            x = o + r * np.column_stack([np.cos(th), np.sin(th)])
+        m, k = len(x), len(e)
+        dist = _point_segment_distances(np.repeat(x, k, axis=0), np.tile(a, (m, 1)), np.tile(b, (m, 1)))
+        if not (dist.reshape(m, k).min(axis=1) < r).all():
+            return False
     return True
+
+
+def _segment_crossings(p, w, circles, m, k, r) -> np.ndarray:
+    """Parameters t of the points p + t·w on the circles of radius r about ``circles`` and on the lines
+    x·m = k."""
+    out = []
+    ww = float(w @ w)
+    if ww > 0:
+        f = p - circles
+        bh = f @ w
+        disc = bh * bh - ww * ((f * f).sum(axis=1) - r * r)
+        ok = disc >= 0
+        root = np.sqrt(disc[ok])
+        out += [(-bh[ok] - root) / ww, (-bh[ok] + root) / ww]
+    wm = m @ w
+    ok = wm != 0
+    out.append((k[ok] - m[ok] @ p) / wm[ok])
+    return np.concatenate(out) if out else np.zeros(0)
+
+
+def _arc_crossings(o, s0, sw, circles, m, k, r) -> np.ndarray:
+    """Fractions τ ∈ [0, 1] of the arc (centre o, radius r, from angle s0, signed sweep sw) where it meets
+    the circles of radius r about ``circles`` and the lines x·m = k."""
+    ang = []
+    f = circles - o
+    dist = np.hypot(f[:, 0], f[:, 1])
+    ok = (dist > 0) & (dist <= 2 * r)
+    base = np.arctan2(f[ok, 1], f[ok, 0])
+    half = np.arccos(np.clip(dist[ok] / (2 * r), -1, 1))
+    ang += [base - half, base + half]
+    # r·cos(θ − β) = k − o·m, β the direction of m (a unit vector).
+    c = (k - m @ o) / r
+    ok = np.abs(c) <= 1
+    beta = np.arctan2(m[ok, 1], m[ok, 0])
+    half = np.arccos(c[ok])
+    ang += [beta - half, beta + half]
+    th = np.concatenate(ang)
+    return np.mod((th - s0) * np.sign(sw), _TWO_PI) / abs(sw)
+
+
+_WEDGED = -1          # `_bridge_steps`: a corner whose disk rests on the far ends of both its steps
 
 
 def _wrap(a: float) -> float:
@@ -401,7 +568,11 @@ def _bridges_clear(D: _Rings) -> bool:
     from ._pieces import piece_distance, piece_distances
 
     r, i = D.r, D.bridged
+    if D.dropped is not None:
+        i = i[~D.dropped[i]]
     j = D.next[i]
+    if D.dropped is not None:
+        j = np.where(D.dropped[j], D.next[j], j)       # a tangent passes a dropped corner by
     nrm = np.column_stack([-np.sin(D.phi[i]), np.cos(D.phi[i])])
     P = D.c[i] - (D.side[i] * r)[:, None] * nrm
     Q = D.c[j] - (D.side[j] * r)[:, None] * nrm
@@ -1067,7 +1238,10 @@ def _arcs_clear(D: _Rings, side: int) -> bool:
     at points every π/16 at most (slightly outside their own disk, which the pieces at its centre touch).
     """
     r = D.radius(side)
-    mine = np.flatnonzero(D.side == side)
+    mine = D.side == side
+    if D.dropped is not None:
+        mine &= ~D.dropped                               # not on the loop
+    mine = np.flatnonzero(mine)
     if len(mine) == 0:
         return True
     m = np.maximum(2, np.ceil(np.abs(D.theta[mine]) / (math.pi / 16)).astype(np.int64))
@@ -1152,25 +1326,54 @@ def _points_near_arcs(x: np.ndarray, centres: np.ndarray, start: np.ndarray, swe
 
 
 def _reaches_edges(D: _Rings, S, side: int) -> bool:
-    """Every straight piece lies on the boundary of the core (side +1) or of the anticore (side −1).
+    """The offset curves of this side are the boundary of the shrink (side +1) or of the grow (−1): then
+    the core's (anticore's) boundary is made of one ring for each ring of S, and every straight piece
+    lies on it.
 
-    The piece on edge i runs between the tangent points of the disks at its ends. The core touches all of
-    it when the piece moved inwards by r is a segment of centres of disks inside S: it lies in S and no
-    edge of S comes closer to it than r (its own edge is exactly r away). The anticore likewise, moved
-    outwards and outside S. Decided exactly from the edges of S. Needed for ``init="core"`` (the core's
-    rings must be the rings of S) and, with both sides, for ``"mason"``.
+    Needed for ``init="core"`` (the core's rings must be the rings of S) and, with both sides, for
+    ``"mason"``, where the certificate (`_offset_certified`) has not shown it. Every point of the
+    boundary of the shrink is exactly r from S and lies on the raw offset curves (the comment above
+    `_offset_certified`); if, conversely, every point of those curves (as `_bridge_steps` left them) is
+    at least r from S, they are that boundary, one closed curve for each ring. Where they are not — a
+    neck of S narrower than 2r, which parts the core into two, leaves arcs about its two reflex corners
+    that cross each other nearer than r to S — the general engine takes S. Decided exactly from the edges
+    of S: `_closer_than` for the segments, the closed forms of `_pieces` for the arcs.
     """
     r = D.radius(side)
-    keep = D.length > 0
-    keep[D.bridged] = False                             # a bridge between two disks is not on an edge
-    if not keep.any():
-        return True
-    own = D.rv[keep] if D.pair else r                   # the radius of each piece's first disk
-    a = D.c[keep] - (D.side[keep] * own)[:, None] * D.n[keep] + side * r * D.n[keep]
-    b = a + np.maximum(D.length[keep], 0)[:, None] * D.u[keep]
-    mid = 0.5 * (a + b)
-    if (shapely.contains_xy(S, mid[:, 0], mid[:, 1]) != (side > 0)).any():
+    limit = r - D.tie
+    a, b = D._offset_ends(side)
+    # One point of each ring's curve on the right side of S, and each segment no nearer than r to S.
+    f = D._first
+    p0 = 0.5 * (a[f] + b[f])
+    if (shapely.contains_xy(S, p0[:, 0], p0[:, 1]) != (side > 0)).any():
         return False
-    # Ends at a disk's centre of this side were found r from every edge before.
-    known = (D.side[keep] == side, D.side[D.next[keep]] == side)
-    return not _closer_than(D, a, b, r - D.tie, known)
+    if _closer_than(D, a, b, limit):
+        return False
+    centres, start, sweep = D.arcs(side)
+    if not len(centres):
+        return True
+    k = np.flatnonzero(D.side != side)                 # the vertex each arc is about
+    boxes = shapely.box(centres[:, 0] - r, centres[:, 1] - r, centres[:, 0] + r, centres[:, 1] + r)
+    edges = shapely.linestrings(np.stack([D.v, D.v[D.next]], axis=1))
+    ai, ej = shapely.STRtree(edges).query(boxes, predicate="dwithin", distance=limit)
+    # An arc's own two edges end at its centre: r from all of it.
+    other = (ej != k[ai]) & (ej != D.prev[k[ai]])
+    ai, ej = ai[other], ej[other]
+    if not len(ai):
+        return True
+    arc_rows = np.column_stack([centres, np.full(len(centres), r), start, sweep])[ai]
+    seg_rows = np.column_stack([D.v[ej], D.v[D.next[ej]], np.zeros(len(ej))])
+    return _far_enough(arc_rows, seg_rows, limit, 1.0 + r + float(np.abs(D.v).max()))
+
+
+def _far_enough(arcs: np.ndarray, segs: np.ndarray, limit: float, size: float) -> bool:
+    """Whether each arc row is at least ``limit`` from the segment row beside it (`_pieces` rows):
+    vectorised, then the closed form one by one where the vectorised distance is within rounding."""
+    from ._pieces import piece_distance, piece_distances
+
+    d = piece_distances(np.ones(len(arcs), bool), arcs, np.zeros(len(segs), bool), segs)
+    doubt = ~(d >= limit + 8 * np.finfo(float).eps * size)
+    for x, y in zip(arcs[doubt], segs[doubt]):
+        if piece_distance(("arc", (x[:2], x[2], x[3], x[4])), ("seg", (y[:2], y[2:4])))[0] < limit:
+            return False
+    return True

@@ -1,0 +1,120 @@
+"""Every result of the fast path against the general engine, the oracle and `verify()`.
+
+The fast path (`vectortighten/_fast.py`) answers directly where corners are isolated or form steps; it must
+give the general engine's answer. For each shape of a set, at each radius and init, this tightens with the
+defaults and, where the path was "fast", also with the general engine alone (`allow_fast=False`), and counts
+a mismatch unless
+
+* the loops are as many, the perimeters agree to 1e-9 and the symmetric difference of the geometries is
+  at most 1e-9 of the area;
+* `tests/oracle.py`'s `judge` finds nothing (no entry into the core or anticore deeper than 1e-9·r,
+  nothing of the core missed, nothing of the anticore covered);
+* ``verify()`` returns no problem.
+
+Sets: ``footprints`` (`bench_geo.footprints`, seeds given), ``stairs`` (blocks whose walls climb and
+descend in staircases of random treads and risers, right-angled or slanted: runs of steps, jogs, corners
+between two steps).
+
+Run:  python benchmarks/fast_vs_general.py footprints --n 300 --seeds 0 1 --radii 0.5 1 2
+      python benchmarks/fast_vs_general.py stairs --n 60 --radii 0.3 0.6 1
+(``--root`` imports ``vectortighten`` from another source tree.)
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import math
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon
+
+HERE = Path(__file__).resolve().parent
+
+
+def staircase(rng: np.random.Generator, length: float, height: float, right_angled: bool) -> np.ndarray:
+    """A wall's profile from (0, 0) to (length, 0): treads at both ends, a staircase up (treads 0.05–1.2,
+    risers 0.05–``height``), a plateau, the same down."""
+    n = max(1, int((length - 7) / 2 / 0.8))
+    up = np.cumsum(rng.uniform(0.05, height, n))
+    pts, x, y = [(0.0, 0.0)], 2.0, 0.0
+    for ny in list(up) + [None] + list(up[::-1][1:]) + [0.0]:
+        if ny is None:
+            x += 2.5
+            continue
+        pts += [(x, y), (x, ny)] if right_angled else [(x + rng.uniform(-0.3, 0.3), ny)]
+        y, x = ny, x + rng.uniform(0.05, 1.2)
+    pts.append((max(x, length - 2) + 2, 0.0))
+    p = np.array(pts)
+    p[:, 0] *= length / p[-1, 0]
+    return p
+
+
+def stairs(n: int, seed: int = 0):
+    """Blocks 12–30 on a side whose four walls are staircases, in or out, turned by a random angle."""
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        w, h = rng.uniform(12, 30, 2)
+        right_angled, height = rng.random() < 0.7, rng.uniform(0.1, 1.5)
+        sides = []
+        for x0, y0, x1, y1 in ((0, 0, w, 0), (w, 0, w, h), (w, h, 0, h), (0, h, 0, 0)):
+            L = math.hypot(x1 - x0, y1 - y0)
+            ux, uy = (x1 - x0) / L, (y1 - y0) / L
+            p = staircase(rng, L, height, right_angled)
+            p[:, 1] *= rng.choice([-1.0, 1.0])
+            sides.append(np.column_stack([x0 + p[:, 0] * ux - p[:, 1] * uy, y0 + p[:, 0] * uy + p[:, 1] * ux]))
+        g = shapely.make_valid(Polygon(np.concatenate(sides)))
+        parts = [q for q in shapely.get_parts(g) if q.geom_type == "Polygon"]
+        yield shapely.affinity.rotate(Polygon(max(parts, key=lambda q: q.area).exterior), rng.uniform(0, 180))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("set", choices=["footprints", "stairs"])
+    ap.add_argument("--n", type=int, default=300)
+    ap.add_argument("--seeds", type=int, nargs="+", default=[0])
+    ap.add_argument("--radii", type=float, nargs="+", default=[1.0])
+    ap.add_argument("--inits", nargs="+", default=["core", "input", "mason"])
+    ap.add_argument("--root", default=str(HERE.parent))
+    args = ap.parse_args()
+    sys.path[:0] = [args.root, str(HERE), str(Path(args.root) / "tests")]
+    import vectortighten as vt
+    from oracle import judge
+    from vectortighten import engine
+
+    import bench_geo
+
+    warnings.simplefilter("ignore")
+    paths, bad, t0 = collections.Counter(), [], time.process_time()
+    for seed in args.seeds:
+        shapes = bench_geo.footprints(args.n, seed=seed) if args.set == "footprints" else stairs(args.n, seed)
+        for k, S in enumerate(shapes):
+            for r in args.radii:
+                for init in args.inits:
+                    T = vt.tighten(S, r, init=init)
+                    paths[T._cache["_path"]] += 1
+                    if T._cache["_path"] != "fast":
+                        continue
+                    G = engine._tighten(vt._validation.check_shape(S), r, engine.Init(init), 1e-5 * r,
+                                        allow_fast=False)
+                    same = (len(T.loops) == len(G.loops) and abs(T.perimeter - G.perimeter) <= 1e-9 * G.perimeter
+                            and T.geometry.symmetric_difference(G.geometry).area <= 1e-9 * max(G.area, 1.0))
+                    J = judge(S, r, T.loops, T.geometry)
+                    clean = (J.core_penetration < 1e-9 * r and J.anticore_penetration < 1e-9 * r
+                             and J.core_missing == 0 and J.anticore_covered == 0)
+                    problems = T.verify()
+                    if not (same and clean and not problems):
+                        bad.append((seed, k, r, init, same, clean, problems[:1], T.perimeter, G.perimeter))
+    print(f"{args.set}: paths {dict(paths)}; fast results compared: {paths['fast']}; mismatches: {len(bad)} "
+          f"({time.process_time() - t0:.0f} s CPU)")
+    for b in bad[:20]:
+        print("  seed %d shape %d r %g init %s: same %s, oracle clean %s, verify %s, perimeter %.12g vs %.12g" % b)
+
+
+if __name__ == "__main__":
+    main()
