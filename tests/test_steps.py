@@ -199,3 +199,15 @@ def test_a_cut_away_piece_must_be_nearer_than_r_to_s():
     assert _fast._covered(D, [("arc", (centre, 0.1, 1.2), False, False)])
     assert not _fast._covered(D, [("arc", (centre, 0.1, 1.5), False, False)])
     assert _fast._covered(D, [("arc", (centre, 0.1, math.pi / 2 - 0.1), False, True)])
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(overlap=st.floats(0.05, 2.5), size=st.floats(4.0, 12.0), turn=st.floats(0, 90),
+       init=st.sampled_from(["core", "input", "mason"]))
+def test_necks_of_every_width_match_the_general_engine(overlap, size, turn, init):
+    # Two squares overlapping at a corner by `overlap` (a neck overlap·√2 wide, below and above 2r = 2): the
+    # answer of whichever path takes it is the general engine's, loop for loop.
+    S = shapely.box(0, 0, size, size).union(shapely.box(size - overlap, size - overlap, 2 * size, 2 * size))
+    S = shapely.affinity.rotate(S, turn, origin=(0, 0))
+    T = vt.tighten(S, 1.0, init=init)
+    assert_same(T, general(S, 1.0, init), rel=1e-10)

@@ -306,9 +306,10 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
 # its disk touches neither of its edges but rests on their far ends, the two vertices next to it, on its
 # own side of the line between them (they must be less than 2r apart). A corner between two bridges that
 # would turn the wrong way is *passed by*: its disk lies beyond the common tangent of its neighbours'
-# disks (of the other side, so of one side with each other), and the loop runs along that tangent; its
-# disk still shapes the offset curves. A disk two steps would slide, two corners passed by in a row, and
-# a short edge between corners of the same side are left to the general engine.
+# disks, and the loop runs along that tangent (of one side with the disks when they are of one side, a
+# bridge across when the corners passed by are two or more); its disk still shapes the offset curves. A
+# disk two steps would slide and a short edge between corners of the same side are left to the general
+# engine.
 
 def _bridge_steps(D: _Rings) -> bool:
     """Bridge every step of S (see above) in place: centres, lengths, turns, offsets, arcs; False if some
@@ -378,21 +379,38 @@ def _bridge_steps(D: _Rings) -> bool:
     # lies beyond the common tangent of its neighbours' disks (of the other side, so of one side), and
     # the loop runs along that tangent from one to the other. Its disk still shapes the offset curves.
     dropped = np.zeros(len(D.v), bool)
-    for k in np.intersect1d(bad, nxt).tolist():
-        h = int(D.prev[k])
-        if _wrap(D.phi[k] - D.phi[h]) * D.side[k] > 0:
-            if moved.get(k) is _WEDGED:
-                # Not met on footprints, jogs or random turns (a wedged corner's neighbours' disks pass
-                # through it): left to the general engine rather than taken untested.
+    inner = np.intersect1d(bad, nxt).tolist()
+    changed = True
+    while changed:                      # each pass drops a corner or ends: at most len(inner) passes
+        changed = False
+        for k in inner:
+            if dropped[k]:
+                continue
+            h = int(D.prev[k])
+            while dropped[h]:
+                h = int(D.prev[h])
+            if _wrap(D.phi[k] - D.phi[h]) * D.side[k] > 0:
+                continue
+            b = int(D.next[k])
+            while dropped[b]:
+                b = int(D.next[b])
+            # The tangent from h's disk to b's: along the line of centres when they are of one side (the
+            # corners passed by alternate), across it otherwise (a bridge).
+            w = D.c[b] - D.c[h]
+            d = math.hypot(w[0], w[1])
+            if D.side[h] == D.side[b]:
+                phi, length = math.atan2(w[1], w[0]), d
+            elif d > 2.0 * r * (1 + 1e-9):
+                phi, length = math.atan2(w[1], w[0]) + D.side[h] * math.asin(2.0 * r / d), math.sqrt(d * d - 4 * r * r)
+            else:
                 return False
-            continue
-        b = int(D.next[k])
-        if dropped[h]:
-            return False
-        w = D.c[b] - D.c[h]
-        D.phi[h] = D.phi[k] = math.atan2(w[1], w[0])
-        D.length[h], D.length[k] = math.hypot(w[0], w[1]), 0.0
-        dropped[k] = True
+            dropped[k], D.length[k] = True, 0.0
+            D.phi[h], D.length[h] = phi, length
+            x = int(D.next[h])
+            while x != b:                   # the corners passed by carry the tangent's direction
+                D.phi[x] = phi
+                x = int(D.next[x])
+            changed = True
     # The turn at every corner a bridge leaves or reaches, from the directions it now joins.
     ends = np.unique(np.concatenate([bad, nxt]))
     for v in ends[~dropped[ends]].tolist():
@@ -572,7 +590,8 @@ def _bridges_clear(D: _Rings) -> bool:
         i = i[~D.dropped[i]]
     j = D.next[i]
     if D.dropped is not None:
-        j = np.where(D.dropped[j], D.next[j], j)       # a tangent passes a dropped corner by
+        while D.dropped[j].any():                       # a tangent passes the dropped corners by
+            j = np.where(D.dropped[j], D.next[j], j)
     nrm = np.column_stack([-np.sin(D.phi[i]), np.cos(D.phi[i])])
     P = D.c[i] - (D.side[i] * r)[:, None] * nrm
     Q = D.c[j] - (D.side[j] * r)[:, None] * nrm
