@@ -28,8 +28,8 @@ grow's (reflex ones), which the offset edges and the arcs around the other kind 
 by certificates (`_offset_certified`, `_rounded_certified`): when the offset curves, and the rings with their
 corners rounded, do not touch themselves, all of that holds, and checking it costs a search among
 neighbouring pieces only. Where a certificate fails, by the exact distance tests: `_closer_than` (a k-d
-tree over the vertices, exact distances for the few candidates) and `_arcs_clear`, whose arcs are sampled
-every π/16 (a violation between two samples and shallower than the sampling's sagitta can go unseen).
+tree over the vertices, exact distances for the few candidates; on a small shape, exact distances for every
+pair of pieces whose boxes come near) and `_arcs_clear`, whose arcs are sampled every π/16 (a violation between two samples and shallower than the sampling's sagitta can go unseen).
 """
 
 from __future__ import annotations
@@ -985,6 +985,12 @@ def _segment_distances(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarra
         return (u[:, 0] - o[:, 0]) * (v[:, 1] - o[:, 1]) - (u[:, 1] - o[:, 1]) * (v[:, 0] - o[:, 0])
 
     dist = _point_segment_distances(p, a, b)
+    if p is q:
+        # Points: the distances from a and b to the point p are its distances to them (the same numbers
+        # as `_point_segment_distances(a, p, p)`), and a point crosses nothing.
+        np.minimum(dist, np.hypot(a[:, 0] - p[:, 0], a[:, 1] - p[:, 1]), out=dist)
+        np.minimum(dist, np.hypot(b[:, 0] - p[:, 0], b[:, 1] - p[:, 1]), out=dist)
+        return dist
     np.minimum(dist, _point_segment_distances(q, a, b), out=dist)
     np.minimum(dist, _point_segment_distances(a, p, q), out=dist)
     np.minimum(dist, _point_segment_distances(b, p, q), out=dist)
@@ -1044,12 +1050,19 @@ def _closer_than(D: _Rings, p: np.ndarray, q: np.ndarray, limit: float, known=No
 
     The rare edges longer than h are tested with an STRtree. ``known``, a pair of boolean arrays, marks
     ends already found at least ``limit`` from every edge (disk centres); pass 1 skips them.
+
+    With at most `_ALL_PAIRS` pairs of a segment and an edge (a small shape), neither pass is needed: every
+    pair whose boxes come within ``limit`` (`_boxes_within`) gets its exact distance, the same formula.
     """
     edge_a, edge_b = D.v, D.v[D.next]
     if len(p) * len(edge_a) <= _ALL_PAIRS:
         # Few of both (a building's footprint): every segment against every edge whose box is near.
         i, e = _boxes_within(p, q, edge_a, edge_b, limit)
-        return bool(len(i)) and bool((_segment_distances(p[i], q[i], edge_a[e], edge_b[e]) < limit).any())
+        if not len(i):
+            return False
+        x = p[i]
+        y = x if p is q or np.array_equal(p, q) else q[i]        # points: `_segment_distances` knows
+        return bool((_segment_distances(x, y, edge_a[e], edge_b[e]) < limit).any())
     # The shell sqrt(limit² + h²/4) − limit ≈ h²/(8·limit) is thin when h is near the typical edge length.
     h = float(np.clip(2.0 * np.percentile(D.ell, 95), limit / 1024, limit / 8))
     short = D.ell <= h
@@ -1170,7 +1183,8 @@ def _points_near_segments(x: np.ndarray, a: np.ndarray, b: np.ndarray, limit: fl
 
     A segment of length ≤ h within ``limit`` of x has its midpoint within sqrt(limit² + h²/4) of x (at
     the segment's point nearest x, the segment is perpendicular to the way to x, or that point is an end);
-    a k-d tree over the midpoints gives the candidates. Longer segments go to an STRtree.
+    a k-d tree over the midpoints gives the candidates. Longer segments go to an STRtree. With at most
+    `_ALL_PAIRS` pairs, the candidates are every pair whose boxes come within ``limit`` (`_boxes_within`).
     """
     if len(x) * len(a) <= _ALL_PAIRS:
         i, k = _boxes_within(x, x, a, b, limit)
@@ -1202,7 +1216,8 @@ def _points_near_arcs(x: np.ndarray, centres: np.ndarray, start: np.ndarray, swe
                       limit: float) -> bool:
     """Whether any point x comes closer than ``limit`` to any arc of radius r (centre, start angle, signed
     sweep), exactly: the distance to the circle where x's direction from the centre falls within the arc,
-    to the nearer end otherwise. Candidates: arcs whose midpoint is within limit + the half-arc's chord."""
+    to the nearer end otherwise. Candidates: arcs whose midpoint is within limit + the half-arc's chord
+    (from k-d trees, or, with at most `_ALL_PAIRS` pairs, from all of them)."""
     half = 0.5 * sweep
     mid = centres + r * np.column_stack([np.cos(start + half), np.sin(start + half)])
     reach = limit + float((2.0 * r * np.abs(np.sin(0.5 * half))).max())

@@ -10,7 +10,8 @@
   arcs, left by rounding) are dropped: their direction is noise, and they read as corners.
 * Every result is checked before it is returned: its joins must be tangent (G1), and
   ``R_r(S) ⊆ T ⊆ F_r(S)`` must hold against the engine's own core
-  and fillet (already built, so the check costs two overlays) within the engine's own slack. A result
+  and fillet (already built, so the check costs two overlays) within the engine's own slack; a fast-path
+  result, which has none, against a coarse opening and closing of S (four buffers and two overlays). A result
   that fails it is not returned as converged: ``converged`` becomes False and a `ConvergenceWarning`
   says by how much it fails.
 """
@@ -176,6 +177,13 @@ def _coarse(loops, tol: float):
     return rings[0]
 
 
+def _pair(a, b) -> np.ndarray:
+    """Two geometries as an array (for one vectorised shapely call)."""
+    out = np.empty(2, dtype=object)
+    out[0], out[1] = a, b
+    return out
+
+
 def _clipped(part, tiny: float, clip, d: float) -> float:
     """The area of ``part`` (a difference made without ``clip``), or, when that exceeds ``tiny``, the
     area of what the difference would have been with ``clip``: ``part ∩ clip.buffer(d)`` for d < 0 (the
@@ -216,11 +224,9 @@ def _containment_problems(result, q: int) -> list[str]:
     frame = cache.get("_frame")
     exact = cache.get("_exact")
     ctx = exact[0] if exact is not None else None
-    # T's geometry is only read when there are no loops (they are sampled again below).
-    T = result.geometry if not result.loops else Polygon()
+    T = result.geometry
     if ctx is not None and frame is not None and hasattr(ctx, "R") and hasattr(ctx, "F"):
         R, F = ctx.R, ctx.F
-        T = frame.to_local(T) if not T.is_empty else T
         r = ctx.r
         slack = result.tolerance / frame.scale + 2.0 * getattr(ctx, "delta", THICKEN_R * r)
         clip = None
@@ -231,7 +237,6 @@ def _containment_problems(result, q: int) -> list[str]:
         S = result.shape
         if frame is not None:
             S = frame.to_local(S)
-            T = frame.to_local(T) if not T.is_empty else T
             r = result.r / frame.scale
             tol = result.tolerance / frame.scale
         else:
@@ -239,8 +244,9 @@ def _containment_problems(result, q: int) -> list[str]:
         # The opening is not intersected with S, nor the closing united with it, here: the differences
         # below are, and only when they are not negligible anyway (see `_clipped`). Overlaying S with its
         # own opening or closing, whose edges lie on S's up to rounding, costs several times the buffers.
-        R = S.buffer(-r, quad_segs=q).buffer(r, quad_segs=q)
-        F = S.buffer(r, quad_segs=q).buffer(-r, quad_segs=q)
+        # The shrink and the grow in one call, then the opening and the closing (the same buffers).
+        K, G = shapely.buffer(_pair(S, S), [-r, r], quad_segs=q)
+        R, F = shapely.buffer(_pair(K, G), [r, -r], quad_segs=q)
         clip = S
         slack = tol + 2.0 * r * (1.0 - math.cos(math.pi / (4 * q))) + 2.0 * THICKEN_R * r
     tiny = _AREA_R2 * r * r
@@ -250,8 +256,8 @@ def _containment_problems(result, q: int) -> list[str]:
         # quarter of the slack are cheap to overlay; the core and fillet, coarse already, take the rest.
         if result.loops:
             T = _coarse(result.loops, 0.25 * slack * (frame.scale if frame is not None else 1.0))
-            if frame is not None:
-                T = frame.to_local(T)
+        if frame is not None and not T.is_empty:
+            T = frame.to_local(T)
         if not R.is_empty:
             if T.is_empty:
                 missed = (R if clip is None else shapely.intersection(R, clip)).area
