@@ -1153,8 +1153,7 @@ def _arcs_clear(D: _Rings, side: int) -> bool:
     # then no nearer than r, and only another part of the shrink's (grow's) boundary can come nearer.
     x = D.c[owner] + (r * (1 + 1e-8)) * np.column_stack([np.cos(th), np.sin(th)])
     limit = r - D.tie
-    pieces = D.offsets(side)
-    if _points_near_segments(x, pieces[:, 0], pieces[:, 1], limit):
+    if _points_near_segments(x, *D._offset_ends(side), limit):       # `_Rings.offsets`, start and end
         return False
     centres, start, sweep = D.arcs(side)
     return not (len(centres) and _points_near_arcs(x, centres, start, sweep, r, limit))
