@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from shapely.geometry import Polygon
 
 import vectortighten as vt
-from vectortighten import _fast
+from vectortighten import _fast, _pieces
 from vectortighten.engine import _Frame
 
 from .strategies import box_unions, disk_unions, holed, stars
@@ -200,10 +200,62 @@ def _random_chains(sizes, seed, long_share):
 @settings(max_examples=200, deadline=None)
 @given(st.lists(st.integers(3, 60), min_size=1, max_size=4), st.integers(0, 2**32 - 1), st.floats(0.0, 0.3))
 def test_separated_agrees_with_all_pairs(sizes, seed, long_share):
-    # The candidate search may not miss a pair that the test of all pairs finds.
+    # The candidate search may not miss a pair that the test of all pairs finds; chains of up to
+    # `_ALL_PIECES` pieces take every pair directly, so the search is made to run on them too.
     A, B, fat, nxt, first = _random_chains(sizes, seed, long_share)
     for eps in (1e-9, 0.05, 0.5):
-        assert _fast._separated(A, B, fat, nxt, first, eps) == _separated_brute(A, B, fat, nxt, eps)
+        want = _separated_brute(A, B, fat, nxt, eps)
+        for few in (_fast._ALL_PIECES, 0):
+            with pytest.MonkeyPatch.context() as m:
+                m.setattr(_fast, "_ALL_PIECES", few)
+                assert _fast._separated(A, B, fat, nxt, first, eps) == want
+
+
+def _arc_distances(x, c, start, sweep, r):
+    i, k = (a.ravel() for a in np.meshgrid(np.arange(len(x)), np.arange(len(c)), indexing="ij"))
+    d = [_pieces.piece_distance(("seg", (x[a], x[a])), ("arc", (c[b], r, start[b], sweep[b])))[0]
+         for a, b in zip(i.tolist(), k.tolist(), strict=True)]
+    return np.array(d).reshape(len(x), len(c))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(3, 40), st.integers(1, 60), st.floats(0.05, 3.0))
+def test_exact_distance_tests_of_few_pieces_agree_with_their_searches(seed, n_edges, n_points, limit):
+    # Below `_ALL_PAIRS` pairs the exact distance tests compare every pair whose boxes (or, for arcs,
+    # midpoint balls) come near, without trees: the same answer as with the trees, and as the distance of
+    # every pair by the closed forms (shapes drawn so that no distance ties with the limit).
+    rng = np.random.default_rng(seed)
+    th = np.sort(rng.uniform(0, 2 * np.pi, n_edges))
+    rad = rng.uniform(2.0, 6.0, n_edges)
+    S = Polygon(np.column_stack([rad * np.cos(th), rad * np.sin(th)]))
+    if not S.is_valid or S.area < 1.0:
+        return
+    S, D = _rings(S, 1.0)
+    if not D.ok:
+        return
+    p = rng.uniform(-7, 7, (n_points, 2))
+    q = np.where(rng.random((n_points, 1)) < 0.4, p, p + rng.normal(scale=2.0, size=(n_points, 2)))
+    a, b = rng.uniform(-7, 7, (n_edges, 2)), rng.uniform(-7, 7, (n_edges, 2))
+    c = rng.uniform(-5, 5, (n_edges, 2))
+    start, sweep = rng.uniform(-np.pi, np.pi, n_edges), rng.uniform(-3.0, 3.0, n_edges)
+    r = float(rng.uniform(0.2, 2.0))
+    edges_a, edges_b = D.v, D.v[D.next]
+    i, e = (g.ravel() for g in np.meshgrid(np.arange(n_points), np.arange(len(edges_a)), indexing="ij"))
+    to_edges = _fast._segment_distances(p[i], q[i], edges_a[e], edges_b[e])
+    i, k = (g.ravel() for g in np.meshgrid(np.arange(n_points), np.arange(n_edges), indexing="ij"))
+    to_segments = _fast._point_segment_distances(p[i], a[k], b[k])
+    to_arcs = _arc_distances(p, c, start, sweep, r)
+    for d in (to_edges, to_segments, to_arcs):
+        if (np.abs(d - limit) < 1e-9).any():
+            return
+    got = []
+    for few in (_fast._ALL_PAIRS, 0):
+        with pytest.MonkeyPatch.context() as m:
+            m.setattr(_fast, "_ALL_PAIRS", few)
+            got.append((_fast._closer_than(D, p, q, limit), _fast._points_near_segments(p, a, b, limit),
+                        _fast._points_near_arcs(p, c, start, sweep, r, limit)))
+    assert got[0] == got[1] == (bool((to_edges < limit).any()), bool((to_segments < limit).any()),
+                                bool((to_arcs < limit).any()))
 
 
 @pytest.mark.parametrize("pieces_per_side", [5, 50, 500])

@@ -296,6 +296,43 @@ def test_final_check_turns_a_wrong_result_into_not_converged(monkeypatch):
     assert containment_problems(T)
 
 
+# An L with a step in its foot: the fast path's (convex and reflex corners, a step bridged).
+NOTCHED_L = Polygon([(0, 0), (12, 0), (12, 5), (7, 5), (7, 4.6), (5, 4.6), (5, 12), (0, 12)])
+
+
+@pytest.mark.parametrize("scale, flagged", [(1.0, ""), (0.995, "of the core"), (0.98, "of the core"),
+                                            (1.005, "outside the fillet"), (1.02, "outside the fillet")])
+def test_final_check_of_a_fast_result_flags_a_slightly_wrong_one(scale, flagged):
+    # The fast path's check builds its core and fillet without overlaying them with S (`_guard._clipped`):
+    # a result shrunk or grown by a fraction of r about the shape's centre must still be flagged.
+    T = vt.tighten(NOTCHED_L, 1.0)
+    assert T._cache["_path"] == "fast"
+    cx, cy = NOTCHED_L.centroid.x, NOTCHED_L.centroid.y
+    T.loops = [L.affine(scale, cx * (1 - scale), cy * (1 - scale)) for L in T.loops]
+    T.geometry = affinity.scale(T.geometry, scale, scale, origin=(cx, cy))
+    problems = containment_problems(T)
+    assert (problems == []) if not flagged else any(flagged in p for p in problems)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.floats(-0.3, 0.3), st.floats(-0.3, 0.3), st.floats(0.05, 0.5), st.floats(-0.2, 0.2))
+def test_clipped_differences_are_the_overlays_with_S(dx, dy, d, grow):
+    # `_clipped` takes the difference without S and clips it afterwards; shrinking distributes over
+    # intersection and growing over union, so the areas are those of the differences made with S.
+    from vectortighten._guard import _clipped
+
+    S = NOTCHED_L
+    R = affinity.translate(S.buffer(-1.0, quad_segs=4).buffer(1.0, quad_segs=4), dx, dy)
+    F = affinity.translate(S.buffer(1.0, quad_segs=4).buffer(-1.0, quad_segs=4), dx, dy)
+    T = S.buffer(grow, quad_segs=4)
+    missed = _clipped(shapely.difference(R.buffer(-d, quad_segs=2), T), 0.0, S, -d)
+    want = shapely.difference(shapely.intersection(R, S).buffer(-d, quad_segs=2), T).area
+    assert missed == pytest.approx(want, rel=1e-6, abs=1e-9)
+    outside = _clipped(shapely.difference(T, F.buffer(d, quad_segs=2)), 0.0, S, d)
+    want = shapely.difference(T, shapely.union(F, S).buffer(d, quad_segs=2)).area
+    assert outside == pytest.approx(want, rel=1e-6, abs=1e-9)
+
+
 def test_final_check_passes_right_results():
     for S, r in [(box(0, 0, 10, 10), 1.0), (star(), 0.05), (comb(gap=1.5), 0.5)]:
         for init in ("core", "input", "mason"):

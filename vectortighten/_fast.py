@@ -33,12 +33,13 @@ grow's (reflex ones), which the offset edges and the arcs around the other kind 
 by certificates (`_offset_certified`, `_rounded_certified`): when the offset curves, and the rings with their
 corners rounded, do not touch themselves, all of that holds, and checking it costs a search among
 neighbouring pieces only. Where a certificate fails, by the exact distance tests: `_closer_than` (a k-d
-tree over the vertices, exact distances for the few candidates) and `_arcs_clear`, whose arcs are sampled
-every π/16 (a violation between two samples and shallower than the sampling's sagitta can go unseen).
+tree over the vertices, exact distances for the few candidates; on a small shape, exact distances for every
+pair of pieces whose boxes come near) and `_arcs_clear`, whose arcs are sampled every π/16 (a violation between two samples and shallower than the sampling's sagitta can go unseen).
 """
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -76,19 +77,19 @@ def _clean_ring(c: np.ndarray):
         if len(pts) < 3:
             return pts, None, None
         if v is None:
-            v = np.roll(pts, -1, axis=0) - pts
-        u = np.roll(v, 1, axis=0)                   # the edge arriving at vertex i
+            v = np.concatenate([pts[1:], pts[:1]]) - pts
+        u = np.concatenate([v[-1:], v[:-1]])        # the edge arriving at vertex i
         cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
         dot = u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1]
         ell = np.hypot(v[:, 0], v[:, 1])
-        sine = cross / (np.roll(ell, 1) * ell)
+        sine = cross / (np.concatenate([ell[-1:], ell[:-1]]) * ell)
         straight = (np.abs(sine) < ANGLE_ZERO) & (dot > 0)
         if not straight.any():
             return pts, v, ell
         pts, v = pts[~straight], None
     if len(pts) < 3:
         return pts, None, None
-    v = np.roll(pts, -1, axis=0) - pts
+    v = np.concatenate([pts[1:], pts[:1]]) - pts
     return pts, v, np.hypot(v[:, 0], v[:, 1])
 
 
@@ -780,6 +781,8 @@ def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, f
     (`_near_pairs`).
     """
     mx, my = 0.5 * (A[:, 0] + B[:, 0]), 0.5 * (A[:, 1] + B[:, 1])
+    if len(A) <= _ALL_PIECES:
+        return _separated_few(A, B, fat, nxt, mx, my, eps)
     # Batch by batch: a chain that touches itself is usually found out in the first.
     for i, j in _near_pairs(A, B, fat, nxt, first, mx, my, eps):
         # Neighbours are exempt, and so are the two pieces on either side of an arc.
@@ -800,6 +803,37 @@ def _separated(A: np.ndarray, B: np.ndarray, fat: np.ndarray, nxt: np.ndarray, f
     return True
 
 
+_ALL_PIECES = 128     # `_separated` pairs every two pieces of a chain of at most this many
+
+
+def _separated_few(A, B, fat, nxt, mx, my, eps: float) -> bool:
+    """`_separated` of a short chain (a building's footprint): every pair of pieces, no search (its blocks
+    and windows would cost more than the pairs they prune). The same tests, the disks' first."""
+    m = len(A)
+    if m < 3:
+        return True
+    i, j = _upper_pairs(m)
+    rho = 0.5 * np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1]) + fat
+    dx, dy = mx[i] - mx[j], my[i] - my[j]
+    reach = rho[i] + rho[j] + eps
+    keep = dx * dx + dy * dy <= reach * reach
+    i, j = i[keep], j[keep]
+    ni, nj = nxt[i], nxt[j]
+    across_i, across_j = np.where(fat[ni] > 0, nxt[ni], ni), np.where(fat[nj] > 0, nxt[nj], nj)
+    keep = (ni != j) & (nj != i) & (across_i != j) & (across_j != i)
+    i, j = i[keep], j[keep]
+    if not len(i):
+        return True
+    gap = _segment_distances(A[i], B[i], A[j], B[j]) - fat[i] - fat[j]
+    return bool((gap >= eps).all())
+
+
+@functools.lru_cache(maxsize=_ALL_PIECES + 1)
+def _upper_pairs(m: int):
+    """``np.triu_indices(m, 1)``, made once for each m (read only)."""
+    i, j = np.triu_indices(m, 1)
+    i.flags.writeable = j.flags.writeable = False
+    return i, j
 _TOP_BLOCKS = 8192    # `_near_pairs` starts from blocks of at least 32 pieces, and about this many blocks
 _EXPAND = 1 << 14     # … and pairs all their pieces at once when that makes no more pairs than this
 _ROUNDING = 1e-12     # × the chain's extent: more than the rounding of every bound `_near_pairs` prunes by
@@ -1137,20 +1171,22 @@ def _children(a: np.ndarray, b: np.ndarray, n: int):
 def _segment_distances(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Distances between segments p→q and a→b, row by row (0 where they cross)."""
 
-    def point_seg(x, s0, s1):
-        d = s1 - s0
-        L2 = (d * d).sum(axis=1)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            t = np.clip(((x - s0) * d).sum(axis=1) / L2, 0.0, 1.0)
-        t = np.where(L2 > 0, t, 0.0)
-        return np.hypot(*(x - s0 - t[:, None] * d).T)
-
     def orient(o, u, v):
         return (u[:, 0] - o[:, 0]) * (v[:, 1] - o[:, 1]) - (u[:, 1] - o[:, 1]) * (v[:, 0] - o[:, 0])
 
-    dist = np.minimum.reduce([point_seg(p, a, b), point_seg(q, a, b), point_seg(a, p, q), point_seg(b, p, q)])
+    dist = _point_segment_distances(p, a, b)
+    if p is q:
+        # Points: the distances from a and b to the point p are its distances to them (the same numbers
+        # as `_point_segment_distances(a, p, p)`), and a point crosses nothing.
+        np.minimum(dist, np.hypot(a[:, 0] - p[:, 0], a[:, 1] - p[:, 1]), out=dist)
+        np.minimum(dist, np.hypot(b[:, 0] - p[:, 0], b[:, 1] - p[:, 1]), out=dist)
+        return dist
+    np.minimum(dist, _point_segment_distances(q, a, b), out=dist)
+    np.minimum(dist, _point_segment_distances(a, p, q), out=dist)
+    np.minimum(dist, _point_segment_distances(b, p, q), out=dist)
     cross = (orient(p, q, a) * orient(p, q, b) < 0) & (orient(a, b, p) * orient(a, b, q) < 0)
-    return np.where(cross, 0.0, dist)
+    dist[cross] = 0.0
+    return dist
 
 
 def _tree(points: np.ndarray) -> cKDTree:
@@ -1158,6 +1194,32 @@ def _tree(points: np.ndarray) -> cKDTree:
     queries at a fixed distance from them, its boxes hug the curve and searches visit several times fewer
     of them (about 6× faster on a 100k-vertex ring)."""
     return cKDTree(points, balanced_tree=False, compact_nodes=False)
+
+
+#: Below this many pairs the exact distance tests (`_closer_than`, `_points_near_segments`,
+#: `_points_near_arcs`) compute the distance of every pair; above it they search k-d trees and R-trees for
+#: the pairs that can be near enough, and compute those distances with the same formulas.
+_ALL_PAIRS = 1 << 13
+
+
+def _boxes_within(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray, limit: float):
+    """Every pair ``(i, k)`` of a segment p→q and a segment a→b (points where the ends are equal) whose
+    bounding boxes are less than ``limit`` apart in both coordinates, beyond any rounding.
+
+    Two segments whose boxes are ``limit`` or more apart in one coordinate are at least that far apart;
+    the margin (1e-9 of ``limit`` and 1e-12 of the largest coordinate) is more than the rounding of the
+    distances computed for the other pairs, so no pair whose computed distance is below ``limit`` is left
+    out. All pairs are formed: for few segments (see `_ALL_PAIRS`).
+    """
+    reach = limit * (1 + 1e-9) + 1e-12 * (1.0 + max(float(np.abs(p).max()), float(np.abs(q).max()),
+                                                    float(np.abs(a).max()), float(np.abs(b).max())))
+    near = None
+    for col in (0, 1):
+        lo, hi = np.minimum(p[:, col], q[:, col]), np.maximum(p[:, col], q[:, col])
+        lo2, hi2 = np.minimum(a[:, col], b[:, col]), np.maximum(a[:, col], b[:, col])
+        ok = (lo2[None, :] - hi[:, None] < reach) & (lo[:, None] - hi2[None, :] < reach)
+        near = ok if near is None else near & ok
+    return np.nonzero(near)
 
 
 def _closer_than(D: _Rings, p: np.ndarray, q: np.ndarray, limit: float, known=None) -> bool:
@@ -1178,8 +1240,19 @@ def _closer_than(D: _Rings, p: np.ndarray, q: np.ndarray, limit: float, known=No
 
     The rare edges longer than h are tested with an STRtree. ``known``, a pair of boolean arrays, marks
     ends already found at least ``limit`` from every edge (disk centres); pass 1 skips them.
+
+    With at most `_ALL_PAIRS` pairs of a segment and an edge (a small shape), neither pass is needed: every
+    pair whose boxes come within ``limit`` (`_boxes_within`) gets its exact distance, the same formula.
     """
     edge_a, edge_b = D.v, D.v[D.next]
+    if len(p) * len(edge_a) <= _ALL_PAIRS:
+        # Few of both (a building's footprint): every segment against every edge whose box is near.
+        i, e = _boxes_within(p, q, edge_a, edge_b, limit)
+        if not len(i):
+            return False
+        x = p[i]
+        y = x if p is q or np.array_equal(p, q) else q[i]        # points: `_segment_distances` knows
+        return bool((_segment_distances(x, y, edge_a[e], edge_b[e]) < limit).any())
     # The shell sqrt(limit² + h²/4) − limit ≈ h²/(8·limit) is thin when h is near the typical edge length.
     h = float(np.clip(2.0 * np.percentile(D.ell, 95), limit / 1024, limit / 8))
     short = D.ell <= h
@@ -1273,20 +1346,28 @@ def _arcs_clear(D: _Rings, side: int) -> bool:
     # then no nearer than r, and only another part of the shrink's (grow's) boundary can come nearer.
     x = D.c[owner] + (r * (1 + 1e-8)) * np.column_stack([np.cos(th), np.sin(th)])
     limit = r - D.tie
-    pieces = D.offsets(side)
-    if _points_near_segments(x, pieces[:, 0], pieces[:, 1], limit):
+    if _points_near_segments(x, *D._offset_ends(side), limit):       # `_Rings.offsets`, start and end
         return False
     centres, start, sweep = D.arcs(side)
     return not (len(centres) and _points_near_arcs(x, centres, start, sweep, r, limit))
 
 
 def _point_segment_distances(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    d = b - a
-    L2 = (d * d).sum(axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.clip(((x - a) * d).sum(axis=1) / L2, 0.0, 1.0)
-    t = np.where(L2 > 0, t, 0.0)
-    return np.hypot(*(x - a - t[:, None] * d).T)
+    """Distances from points x to segments a→b, row by row (a point where a = b)."""
+    ax, ay = a[:, 0], a[:, 1]
+    dx, dy = b[:, 0] - ax, b[:, 1] - ay
+    wx, wy = x[:, 0] - ax, x[:, 1] - ay
+    L2 = dx * dx + dy * dy
+    # The nearest point's parameter along the segment, clamped to it; 0 for a point (d = 0: any t would do).
+    t = wx * dx
+    t += wy * dy
+    t /= np.where(L2 > 0, L2, 1.0)
+    np.clip(t, 0.0, 1.0, out=t)
+    dx *= t
+    dy *= t
+    wx -= dx
+    wy -= dy
+    return np.hypot(wx, wy)
 
 
 def _points_near_segments(x: np.ndarray, a: np.ndarray, b: np.ndarray, limit: float) -> bool:
@@ -1294,8 +1375,12 @@ def _points_near_segments(x: np.ndarray, a: np.ndarray, b: np.ndarray, limit: fl
 
     A segment of length ≤ h within ``limit`` of x has its midpoint within sqrt(limit² + h²/4) of x (at
     the segment's point nearest x, the segment is perpendicular to the way to x, or that point is an end);
-    a k-d tree over the midpoints gives the candidates. Longer segments go to an STRtree.
+    a k-d tree over the midpoints gives the candidates. Longer segments go to an STRtree. With at most
+    `_ALL_PAIRS` pairs, the candidates are every pair whose boxes come within ``limit`` (`_boxes_within`).
     """
+    if len(x) * len(a) <= _ALL_PAIRS:
+        i, k = _boxes_within(x, x, a, b, limit)
+        return bool(len(i)) and bool((_point_segment_distances(x[i], a[k], b[k]) < limit).any())
     L = np.hypot(*(b - a).T)
     h = float(np.clip(2.0 * np.percentile(L, 95), limit / 1024, limit / 8))
     short = L <= h
@@ -1323,14 +1408,20 @@ def _points_near_arcs(x: np.ndarray, centres: np.ndarray, start: np.ndarray, swe
                       limit: float) -> bool:
     """Whether any point x comes closer than ``limit`` to any arc of radius r (centre, start angle, signed
     sweep), exactly: the distance to the circle where x's direction from the centre falls within the arc,
-    to the nearer end otherwise. Candidates: arcs whose midpoint is within limit + the half-arc's chord."""
+    to the nearer end otherwise. Candidates: arcs whose midpoint is within limit + the half-arc's chord
+    (from k-d trees, or, with at most `_ALL_PAIRS` pairs, from all of them)."""
     half = 0.5 * sweep
     mid = centres + r * np.column_stack([np.cos(start + half), np.sin(start + half)])
     reach = limit + float((2.0 * r * np.abs(np.sin(0.5 * half))).max())
-    hits = _tree(x).sparse_distance_matrix(_tree(mid), reach, output_type="ndarray")
-    if len(hits) == 0:
+    if len(x) * len(centres) <= _ALL_PAIRS:
+        # Few of both: the same candidates from all pairs, without the trees.
+        dx, dy = x[:, 0, None] - mid[None, :, 0], x[:, 1, None] - mid[None, :, 1]
+        i, k = np.nonzero(dx * dx + dy * dy <= reach * reach)
+    else:
+        hits = _tree(x).sparse_distance_matrix(_tree(mid), reach, output_type="ndarray")
+        i, k = hits["i"], hits["j"]
+    if len(i) == 0:
         return False
-    i, k = hits["i"], hits["j"]
     p, c = x[i], centres[k]
     rel = p - c
     # Angle of x from the centre, measured from the arc's start in the sweep's direction.

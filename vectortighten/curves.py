@@ -285,6 +285,17 @@ class Arc:
 Piece = Segment | Arc
 
 
+def _ahead(x: np.ndarray) -> np.ndarray:
+    """``np.roll(x, -1, axis=0)`` (item i + 1 at i, the last at the first's), without np.roll's overhead
+    (several times the copy on arrays of a few dozen items)."""
+    return np.concatenate([x[1:], x[:1]])
+
+
+def _behind(x: np.ndarray) -> np.ndarray:
+    """``np.roll(x, 1, axis=0)``: item i − 1 at i, the first's at the last."""
+    return np.concatenate([x[-1:], x[:-1]])
+
+
 def _speck_length(c: np.ndarray, r: float) -> float:
     """`SPECK_SCALE` of the extent of a loop of disks of radius r centred at ``c`` (its own units)."""
     extent = float(np.ptp(c, axis=0).max()) + 2.0 * abs(float(r)) if len(c) else 0.0
@@ -307,9 +318,9 @@ def _merge_specks(c, s, r, phi, length, sweeps):
     if n < 2:
         return c, s, phi, length, sweeps
     # For one side the tangent's length is the distance between the centres: judged on the centres.
-    gap = np.hypot(*(np.roll(c, -1, axis=0) - c).T)
-    merge_next = (gap <= _speck_length(c, r)) & (s == np.roll(s, -1))
-    merged = np.roll(merge_next, 1)                   # disk k is merged into the one before it
+    gap = np.hypot(*(_ahead(c) - c).T)
+    merge_next = (gap <= _speck_length(c, r)) & (s == _ahead(s))
+    merged = _behind(merge_next)                      # disk k is merged into the one before it
     if not merged.any():
         return c, s, phi, length, sweeps
     if merged.all():
@@ -388,7 +399,7 @@ class Loop:
         if atol is None:
             x0, y0, x1, y1 = self.bounds
             atol = 1e-9 * max(x1 - x0, y1 - y0, 1e-300)
-        gap = np.hypot(*(end - np.roll(start, -1, axis=0)).T)
+        gap = np.hypot(*(end - _ahead(start)).T)
         if (gap > atol).any():
             i = int(np.argmax(gap))
             raise ValueError(f"loop is not closed: piece {i} ends {gap[i]:.3g} away from where the next starts")
@@ -494,15 +505,15 @@ class Loop:
         n = len(c)
         eps = _speck_length(c, r)
         nx, ny = -np.sin(phi), np.cos(phi)              # left normal of each tangent
-        sr, sr_next = s * r, np.roll(s, -1) * r
+        sr, sr_next = s * r, _ahead(s) * r
         cx, cy = c[:, 0], c[:, 1]
-        cx_next, cy_next = np.roll(cx, -1), np.roll(cy, -1)
+        cx_next, cy_next = _ahead(cx), _ahead(cy)
         # Arc i is row 2i: (cx, cy, r, start, sweep); the tangent leaving disk i row 2i + 1: (P, Q, 0). The
         # rows are stored a column at a time (Fortran order): every measure reads the array by columns.
         buf = np.empty((5, n, 2))
         arcs, segs = buf[:, :, 0], buf[:, :, 1]
         arcs[0], arcs[1], arcs[2] = cx, cy, r
-        np.subtract(np.roll(phi, 1), s * (math.pi / 2), out=arcs[3])
+        np.subtract(_behind(phi), s * (math.pi / 2), out=arcs[3])
         arcs[4] = sweeps
         for k, (x, sx) in enumerate(((cx, nx), (cy, ny), (cx_next, nx), (cy_next, ny))):
             np.multiply(sr if k < 2 else sr_next, sx, out=segs[k])
@@ -658,7 +669,7 @@ class Loop:
     def corner_angles(self) -> np.ndarray:
         """Absolute angle between the end tangent of each piece and the start tangent of the next."""
         t0, t1 = self._tangents()
-        a, b = t1, np.roll(t0, -1, axis=0)
+        a, b = t1, _ahead(t0)
         ang = np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1)))
         return np.where(np.isfinite(ang), ang, 0.0)
 
@@ -666,7 +677,7 @@ class Loop:
     def total_turn(self) -> float:
         """Sum of the signed turning of the loop (arcs and corners): ±2π for a simple G1 loop."""
         t0, t1 = self._tangents()
-        a, b = t1, np.roll(t0, -1, axis=0)
+        a, b = t1, _ahead(t0)
         corner = np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1))
         corner = np.where(np.isfinite(corner), corner, 0.0)
         return math.fsum((self._data[self._arc, 4]).tolist()) + math.fsum(corner.tolist())
@@ -707,7 +718,7 @@ class Loop:
         length = np.hypot(d[:, 2] - d[:, 0], d[:, 3] - d[:, 1])
         with np.errstate(divide="ignore"):
             slack = np.where(self._arc, 0.0, rounding / length)
-        return atol + slack + np.roll(slack, -1)
+        return atol + slack + _ahead(slack)
 
     def rounding(self) -> float:
         """The length below which this loop's own numbers are rounding (`tolerances.rounding_length` of its
