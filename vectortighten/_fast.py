@@ -139,6 +139,8 @@ class _Rings:
         self.length = self.ell - self.t - self._succ(self.t)            # straight piece on edge i
         self.phi = np.arctan2(uy, ux)
         self.bridged = np.zeros(0, dtype=np.int64)     # edges whose step a bridge crosses (`_bridge_steps`)
+        self.keep = None                # vertices left in the loops, where runs merged (`_same_side_runs`)
+        self.spans = []                 # (side, edges) of each notch or tab bridged (`_same_side_runs`)
         self._offsets, self._arcs = {}, {}
         self._sagitta = None
 
@@ -236,15 +238,24 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
     if not D.ok or (np.abs(D.theta) > math.pi - 1e-6).any():
         # A spike: no disk fits its corner (kept sharp by a radius 0, its two sides would touch).
         return None
-    if (D.length < -1e-12 * np.maximum(D.ell, r)).any() and (D.pair or not _bridge_steps(D)):
-        return None                                     # two disks do not fit on one edge
+    if (D.length < -1e-12 * np.maximum(D.ell, r)).any():
+        # Two disks do not fit on one edge: same-side runs (`_same_side_runs`) first, then steps.
+        if D.pair or not _same_side_runs(D):
+            return None
+        if (D.length < -1e-12 * np.maximum(D.ell, r)).any():
+            runs = D.bridged
+            if not _bridge_steps(D):
+                return None
+            D.bridged = np.concatenate([runs, D.bridged])
+        if D.spans:
+            _trim_spans(D)
     length = np.maximum(D.length, 0.0)
     shapely.prepare(S)
     # A side of radius 0 (two radii) keeps its corners sharp: its shrink (grow) is S itself, which the
     # straight pieces lie on and the other side's arcs stay out of; nothing to check there. The
     # certificates read the offset curves of disks at S's vertices: not where a step was bridged.
     certified = {side: True if D.pair and D.radius(side) == 0 else
-                 (not len(D.bridged) and _offset_certified(D, S, side)) for side in (1, -1)}
+                 (not len(D.bridged) and D.keep is None and _offset_certified(D, S, side)) for side in (1, -1)}
     # A certified side's offset curves lie wholly in S (+1) or outside it (−1), and its centres with them.
     open_ = np.flatnonzero([not certified[s] for s in D.side.astype(int)]) if not all(certified.values()) \
         else np.zeros(0, np.int64)
@@ -279,6 +290,9 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
         return None
     if D.pair:
         return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl], D.rv[sl]) for sl in D.slices]
+    if D.keep is not None:
+        # A run's corners merged into one disk (`_same_side_runs`): its other vertices are left out.
+        return [tuple(x[sl][D.keep[sl]] for x in (D.c, D.side, D.phi, length, D.theta)) for sl in D.slices]
     return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl]) for sl in D.slices]
 
 
@@ -393,6 +407,265 @@ def _circle_hit(base: np.ndarray, u: np.ndarray, x: np.ndarray, r: float, first:
         return None
     root = math.sqrt(disc)
     return -b - root if first else -b + root
+
+
+# -- same-side runs: corners of one side closer than their disks' tangents ----------------------------------
+# A short edge between two corners of the same side (a bevel, two chords of a digitised round corner, a
+# notch's floor): a maximal run of corners i_1 … i_k of side s joined by short edges, between the edge h
+# arriving at i_1 and the edge e leaving i_k.
+#
+# * Merged corner (|Θ| < π, Θ the run's total turn). Near the run the shrink (s = +1; the grow outside S
+#   for s = −1) is the intersection of the half-planes bounded by the offset lines of h, the inner edges and
+#   e, whose directions turn monotonically through less than π. Each surviving line bounds one edge of that
+#   intersection, which lies in the segment its neighbours' lines cut from it; for an inner edge that
+#   segment has negative length (the edge is short), so no inner line survives, and h and e meet at one
+#   vertex C: the centre of the one disk tangent to h and e, about the intersection V of their lines as at
+#   any corner. The run becomes that disk, turning by Θ; its tangent points must fall on h and e (checked),
+#   and the straight pieces on h and e shrink to match (≥ 0, else the general engine). The offset curves
+#   on side s pass through C (the inner edges' offsets shrink to the point C); the other side's, the arcs
+#   about the run's corners, are unchanged.
+# * Notch or tab (|Θ| ≥ π: a slot, or a protrusion, between corners A and D of the other side). With
+#   |AD| < 2r, the disk E of radius r through A and D on side s is the corner of the grow (a notch, s = −1;
+#   the shrink for a tab) where the arcs about A and D meet: the loop goes from A's own disk, on the inner
+#   tangent, to E, around E, and on to D's disk. On side s the offsets of the run's edges and the parts of
+#   the arcs about A and D beyond E are trimmed away: sound only where every point removed is nearer than r
+#   to S's boundary, which is checked exactly (`_covered`: the run's edges' whole offsets against the open
+#   capsules of the edges nearby; the arcs against the other corner's open disk).
+#
+# The dropped corners stay in the arrays as disks of sweep 0 at the merged centre (their edges of length 0,
+# leaving in the direction that arrives at the run), so every exact test reads them as points of the one
+# arc; `_Rings.keep` leaves them out of the loops. A run next to a step, or a notch whose mouth corner is
+# also another run's, goes to the general engine.
+
+def _same_side_runs(D: _Rings) -> bool:
+    """Merge every run of same-side short edges into one corner, or span it as a notch or tab (see above),
+    in place; False if some run cannot be taken (the general engine must take S). Steps are left short for
+    `_bridge_steps`."""
+    r = D.r
+    short = D.length < -1e-12 * np.maximum(D.ell, r)
+    nxt, prv = D.next, D.prev
+    inner = short & (D.side == D.side[nxt])
+    if not inner.any():
+        return True
+    if any(inner[sl].all() for sl in D.slices):
+        return False
+    step = short & ~inner
+    for side in (1, -1):
+        D.arcs(side)                                # cached about the original corners, before turns change
+    keep = np.ones(len(D.v), bool)
+    mouth = np.zeros(len(D.v), bool)
+    outer, notches = [], []
+    for first in np.flatnonzero(inner & ~inner[prv]).tolist():
+        run = [first]
+        while inner[run[-1]]:
+            run.append(int(nxt[run[-1]]))
+        last, h = run[-1], int(prv[first])
+        s = float(D.side[first])
+        turn = float(D.theta[run].sum())
+        if abs(turn) < math.pi - 1e-6:
+            if step[h] or step[last] or step[prv[h]] or step[nxt[last]]:
+                return False                        # a step beside the run
+            if not _merge_run(D, run, s, turn):
+                return False
+            outer += [h, last]
+        else:
+            A, Dv = h, int(nxt[last])
+            if D.side[A] == s or D.side[Dv] == s or short[prv[A]] or short[Dv] or mouth[A] or mouth[Dv]:
+                return False
+            mouth[A] = mouth[Dv] = True
+            notches.append((A, run, Dv, s))
+        keep[run[:-1]] = False
+    if outer:
+        e = np.array(outer)
+        D.length[e] = D.ell[e] - D.t[e] - D.t[nxt[e]]
+        if (D.length[e] < -1e-12 * np.maximum(D.ell[e], r)).any():
+            return False                            # a merged disk's tangent runs past its outer edge
+    bridged = []
+    for A, run, Dv, s in notches:
+        if not _span_notch(D, A, run, Dv, s):
+            return False
+        bridged += [A, run[-1]]
+    D.keep = keep
+    D.bridged = np.array(bridged, dtype=np.int64)
+    D._sagitta = None
+    D.spans = [(int(s), [A] + run[:-1] + [run[-1]]) for A, run, Dv, s in notches]
+    return True
+
+
+def _trim_spans(D: _Rings) -> None:
+    """The offsets on side s of a notch's (tab's) edges are gone, points at E (`_span_notch` checked that
+    every point of them is nearer than r to S's boundary). After the steps have moved their disks."""
+    for s, edges in D.spans:
+        a, b = D._offset_ends(s)
+        a[edges] = b[edges] = D.c[edges[-1]]
+
+
+def _merge_run(D: _Rings, run: list, s: float, turn: float) -> bool:
+    """One disk for the run's corners, tangent to the edges h before it and e after (see above)."""
+    first, last = run[0], run[-1]
+    h = int(D.prev[first])
+    uh, ue = D.u[h], D.u[last]
+    sine = uh[0] * ue[1] - uh[1] * ue[0]
+    if not abs(sine) > 1e-9:
+        return False
+    w = D.v[last] - D.v[first]
+    a = (w[0] * ue[1] - w[1] * ue[0]) / sine        # V = v[first] + a·uh = v[last] + b·ue
+    b = (w[0] * uh[1] - w[1] * uh[0]) / sine
+    t = D.r * math.tan(0.5 * abs(turn))
+    foot_h, foot_e = t - a, t + b                   # tangent points: back from v[first], on from v[last]
+    if not (foot_h >= 0 and foot_e >= 0):
+        return False
+    V = D.v[first] + a * uh
+    C = V + (s * D.r / (1.0 + float(uh @ ue))) * (D.n[h] + D.n[last])
+    D.t[first], D.t[last] = foot_h, foot_e
+    D.c[run] = C
+    D.theta[run[:-1]] = 0.0
+    D.theta[last] = turn
+    D.phi[run[:-1]] = D.phi[h]
+    D.length[run[:-1]] = 0.0
+    return True
+
+
+def _span_notch(D: _Rings, A: int, run: list, Dv: int, s: float) -> bool:
+    """The disk E through A and D on side s, bridged from A's disk and to D's (see above)."""
+    r, last = D.r, run[-1]
+    chord = D.v[Dv] - D.v[A]
+    w = math.hypot(chord[0], chord[1])
+    if not w < 2.0 * r * (1 - 1e-9):
+        return False
+    depth = math.sqrt(r * r - 0.25 * w * w)
+    nl = np.array([-chord[1], chord[0]]) / w
+    E = 0.5 * (D.v[A] + D.v[Dv]) + (s * depth) * nl
+    # A's and D's own disks must touch the edges into the notch (else they would slide along the walls).
+    if not (D.t[A] <= D.ell[A] and D.t[Dv] <= D.ell[last]):
+        return False
+    # The trimmed pieces of side s: every point nearer than r to S's boundary.
+    edges = [A] + run                               # the edges from A to D
+    if not _covered(D, edges, s, _around(D, A, Dv)):
+        return False
+    centres, start, sweep = (x.copy() for x in D.arcs(int(s)))
+    k_of = np.cumsum(D.side != s) - 1               # index of a vertex's arc on side s
+    beta = math.acos(min(1.0, 0.5 * w / r))         # the arc about A inside D's open disk: ±β about A→D
+    for X, Y, ends in ((A, Dv, True), (Dv, A, False)):
+        n = int(k_of[X])
+        toward = math.atan2(*(D.v[Y] - D.v[X])[::-1])
+        at_E = math.atan2(*(E - D.v[X])[::-1])
+        cut = _wrap(at_E - start[n])
+        if cut * sweep[n] < 0 or abs(cut) > abs(sweep[n]):
+            return False
+        if ends:                                    # A's arc ends at E: the rest, beyond E, is removed
+            lo = _wrap(at_E - toward)
+            hi = lo + (sweep[n] - cut)
+            sweep[n] = cut
+        else:                                       # D's arc starts at E: the part before it is removed
+            lo = _wrap(start[n] - toward)
+            hi = lo + cut
+            start[n], sweep[n] = at_E, sweep[n] - cut
+            lo, hi = hi, lo                         # from E back to the removed start
+        if abs(abs(lo) - beta) > 1e-9 or (hi != lo and not abs(hi) < beta):
+            return False                            # not all of it in the other corner's open disk
+    # The bridges: inner tangents, A's disk to E and E to D's.
+    w1, w2 = E - D.c[A], D.c[Dv] - E
+    d1, d2 = math.hypot(w1[0], w1[1]), math.hypot(w2[0], w2[1])
+    if not (d1 > 2.0 * r * (1 + 1e-9) and d2 > 2.0 * r * (1 + 1e-9)):
+        return False
+    phi1 = math.atan2(w1[1], w1[0]) + D.side[A] * math.asin(2.0 * r / d1)
+    phi2 = math.atan2(w2[1], w2[0]) + s * math.asin(2.0 * r / d2)
+    tA, tE, tD = _wrap(phi1 - D.phi[D.prev[A]]), _wrap(phi2 - phi1), _wrap(D.phi[Dv] - phi2)
+    if not (tA * D.side[A] > 0 and tE * s > 0 and tD * D.side[Dv] > 0):
+        return False
+    # E's arc runs between A and D, on the far side of the chord: where E's disk touches the grow's corner.
+    for phi in (phi1, phi2):
+        if not -math.sin(phi) * nl[0] + math.cos(phi) * nl[1] > depth / r:
+            return False
+    D._arcs[int(s)] = (centres, start, sweep)
+    D.c[run] = E
+    D.phi[A], D.length[A], D.theta[A] = phi1, math.sqrt(d1 * d1 - 4 * r * r), tA
+    D.phi[run[:-1]], D.length[run[:-1]], D.theta[run[:-1]] = phi1, 0.0, 0.0
+    D.phi[last], D.length[last], D.theta[last] = phi2, math.sqrt(d2 * d2 - 4 * r * r), tE
+    D.theta[Dv] = tD
+    return True
+
+
+def _around(D: _Rings, A: int, Dv: int, reach: int = 3) -> list:
+    """The edges from ``reach`` before A to ``reach`` after D, each once."""
+    out, x = [int(A)], int(A)
+    for _ in range(reach):
+        x = int(D.prev[x])
+        out.append(x)
+    x = int(A)
+    while x != Dv:
+        x = int(D.next[x])
+        out.append(x)
+    for _ in range(reach):
+        x = int(D.next[x])
+        out.append(x)
+    return list(dict.fromkeys(out))
+
+
+def _covered(D: _Rings, edges: list, s: float, near: list) -> bool:
+    """Whether the whole offset by r of each of ``edges`` to side s (the segment r from the edge along its
+    normal, end to end) lies within the open capsules of radius r − tie of the edges ``near`` (but itself):
+    every point of it nearer than r to S's boundary, so none on the shrink's (s = +1) or grow's boundary.
+
+    Distance to a segment is convex along a line: each capsule meets the offset's line in one open interval
+    (the union of its two end disks' and its rectangle's), and their union must hold the whole offset.
+    """
+    rho = D.r - D.tie
+    near = np.array(near)
+    fa, fb = D.v[near], D.v[D.next[near]]
+    fu, fl = D.u[near], D.ell[near]
+    size = 1.0 + D.r + float(np.abs(fa).max())
+    for e in edges:
+        P = D.v[e] + s * D.r * D.n[e]
+        d = D.ell[e] * D.u[e]
+        los, his = [], []
+        for k in range(len(near)):
+            if near[k] == e:
+                continue
+            ivs = [_line_disk(P, d, fa[k], rho), _line_disk(P, d, fb[k], rho),
+                   _line_slab(P, d, fa[k], fu[k], fl[k], rho)]
+            ivs = [iv for iv in ivs if iv is not None]
+            if ivs:
+                los.append(min(iv[0] for iv in ivs))
+                his.append(max(iv[1] for iv in ivs))
+        # A few ulps of the coordinates, in units of the parameter along the offset, to spare.
+        slack = 64 * np.finfo(float).eps * size / D.ell[e]
+        reach = 0.0                                 # [0, reach) is covered; reach itself not yet
+        for lo, hi in sorted(zip(los, his, strict=True)):
+            if reach > 1 + slack or not lo < reach - slack:
+                break
+            reach = max(reach, hi)
+        if not reach > 1 + slack:
+            return False
+    return True
+
+
+def _line_disk(P: np.ndarray, d: np.ndarray, c: np.ndarray, rho: float):
+    """The open interval of t where P + t·d is nearer than rho to c, or None."""
+    q = P - c
+    A, B, C = float(d @ d), float(d @ q), float(q @ q) - rho * rho
+    disc = B * B - A * C
+    if not disc > 0:
+        return None
+    root = math.sqrt(disc)
+    return (-B - root) / A, (-B + root) / A
+
+
+def _line_slab(P: np.ndarray, d: np.ndarray, a: np.ndarray, u: np.ndarray, ell: float, rho: float):
+    """The open interval of t where P + t·d projects inside the segment a + [0, ell]·u (u a unit vector)
+    and is nearer than rho to its line, or None."""
+    q = P - a
+    lo, hi = -math.inf, math.inf
+    for c0, c1, bound_lo, bound_hi in ((float(q @ u), float(d @ u), 0.0, ell),
+                                       (q[0] * u[1] - q[1] * u[0], d[0] * u[1] - d[1] * u[0], -rho, rho)):
+        if c1 == 0:
+            if not bound_lo < c0 < bound_hi:
+                return None
+            continue
+        t0, t1 = (bound_lo - c0) / c1, (bound_hi - c0) / c1
+        lo, hi = max(lo, min(t0, t1)), min(hi, max(t0, t1))
+    return (lo, hi) if lo < hi else None
 
 
 def _bridges_clear(D: _Rings) -> bool:
