@@ -462,11 +462,8 @@ def _same_side_runs(D: _Rings) -> bool:
         last, h = run[-1], int(prv[first])
         s = float(D.side[first])
         turn = float(D.theta[run].sum())
-        if abs(turn) < math.pi - 1e-6:
-            if step[h] or step[last] or step[prv[h]] or step[nxt[last]]:
-                return False                        # a step beside the run
-            if not _merge_run(D, run, s, turn):
-                return False
+        # One merged corner where it fits (not beside a step), else a notch or tab where one spans it.
+        if abs(turn) < math.pi - 1e-6 and not (step[h] or step[last]) and _merge_run(D, run, s, turn):
             outer += [h, last]
         else:
             A, Dv = h, int(nxt[last])
@@ -514,6 +511,10 @@ def _merge_run(D: _Rings, run: list, s: float, turn: float) -> bool:
     t = D.r * math.tan(0.5 * abs(turn))
     foot_h, foot_e = t - a, t + b                   # tangent points: back from v[first], on from v[last]
     if not (foot_h >= 0 and foot_e >= 0):
+        return False
+    # The straight pieces on h and e, with the disks at their other ends as they are now.
+    if not (D.ell[h] - D.t[h] - foot_h >= -1e-12 * max(D.ell[h], D.r)
+            and D.ell[last] - foot_e - D.t[D.next[last]] >= -1e-12 * max(D.ell[last], D.r)):
         return False
     V = D.v[first] + a * uh
     C = V + (s * D.r / (1.0 + float(uh @ ue))) * (D.n[h] + D.n[last])
