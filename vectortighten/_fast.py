@@ -140,7 +140,7 @@ class _Rings:
         self.phi = np.arctan2(uy, ux)
         self.bridged = np.zeros(0, dtype=np.int64)     # edges whose step a bridge crosses (`_bridge_steps`)
         self.keep = None                # vertices left in the loops, where runs merged (`_same_side_runs`)
-        self.spans = []                 # (side, edges) of each notch or tab bridged (`_same_side_runs`)
+        self.spans = []                 # (side, edges, vertex): offsets trimmed to its centre (`_trim_spans`)
         self._offsets, self._arcs = {}, {}
         self._sagitta = None
 
@@ -485,16 +485,16 @@ def _same_side_runs(D: _Rings) -> bool:
     D.keep = keep
     D.bridged = np.array(bridged, dtype=np.int64)
     D._sagitta = None
-    D.spans = [(int(s), [A] + run[:-1] + [run[-1]]) for A, run, Dv, s in notches]
+    D.spans += [(int(s), [A] + run, run[-1]) for A, run, Dv, s in notches]
     return True
 
 
 def _trim_spans(D: _Rings) -> None:
     """The offsets on side s of a notch's (tab's) edges are gone, points at E (`_span_notch` checked that
     every point of them is nearer than r to S's boundary). After the steps have moved their disks."""
-    for s, edges in D.spans:
+    for s, edges, at in D.spans:
         a, b = D._offset_ends(s)
-        a[edges] = b[edges] = D.c[edges[-1]]
+        a[edges] = b[edges] = D.c[at]
 
 
 def _merge_run(D: _Rings, run: list, s: float, turn: float) -> bool:
@@ -537,34 +537,30 @@ def _span_notch(D: _Rings, A: int, run: list, Dv: int, s: float) -> bool:
     depth = math.sqrt(r * r - 0.25 * w * w)
     nl = np.array([-chord[1], chord[0]]) / w
     E = 0.5 * (D.v[A] + D.v[Dv]) + (s * depth) * nl
-    # A's and D's own disks must touch the edges into the notch (else they would slide along the walls).
-    if not (D.t[A] <= D.ell[A] and D.t[Dv] <= D.ell[last]):
-        return False
+    # A's and D's own disks touch the edges into the notch, or slide along the walls until they meet the
+    # run's end corners (`_slide_mouth`).
+    near = _around(D, A, Dv)
+    for X, wall, corner, forward in ((A, int(D.prev[A]), run[0], True), (Dv, Dv, last, False)):
+        if D.t[X] > D.ell[A if forward else last] and not _slide_mouth(D, X, wall, corner, forward, near):
+            return False
+    for e in (int(D.prev[A]), Dv):
+        D.length[e] = D.ell[e] - D.t[e] - D.t[D.next[e]]
+        if D.length[e] < -1e-12 * max(D.ell[e], r):
+            return False
     # The trimmed pieces of side s: every point nearer than r to S's boundary.
     edges = [A] + run                               # the edges from A to D
-    if not _covered(D, edges, s, _around(D, A, Dv)):
+    if not _covered(D, edges, s, near):
         return False
-    centres, start, sweep = (x.copy() for x in D.arcs(int(s)))
+    centres, start, sweep = D.arcs(int(s))
     k_of = np.cumsum(D.side != s) - 1               # index of a vertex's arc on side s
     beta = math.acos(min(1.0, 0.5 * w / r))         # the arc about A inside D's open disk: ±β about A→D
-    for X, Y, ends in ((A, Dv, True), (Dv, A, False)):
+    for X, Y, keep_first in ((A, Dv, True), (Dv, A, False)):
         n = int(k_of[X])
-        toward = math.atan2(*(D.v[Y] - D.v[X])[::-1])
-        at_E = math.atan2(*(E - D.v[X])[::-1])
-        cut = _wrap(at_E - start[n])
-        if cut * sweep[n] < 0 or abs(cut) > abs(sweep[n]):
-            return False
-        if ends:                                    # A's arc ends at E: the rest, beyond E, is removed
-            lo = _wrap(at_E - toward)
-            hi = lo + (sweep[n] - cut)
-            sweep[n] = cut
-        else:                                       # D's arc starts at E: the part before it is removed
-            lo = _wrap(start[n] - toward)
-            hi = lo + cut
-            start[n], sweep[n] = at_E, sweep[n] - cut
-            lo, hi = hi, lo                         # from E back to the removed start
-        if abs(abs(lo) - beta) > 1e-9 or (hi != lo and not abs(hi) < beta):
+        cut = _arc_cut(float(start[n]), float(sweep[n]), math.atan2(*(E - D.v[X])[::-1]), keep_first,
+                       math.atan2(*(D.v[Y] - D.v[X])[::-1]), beta)
+        if cut is None:
             return False                            # not all of it in the other corner's open disk
+        start[n], sweep[n] = cut
     # The bridges: inner tangents, A's disk to E and E to D's.
     w1, w2 = E - D.c[A], D.c[Dv] - E
     d1, d2 = math.hypot(w1[0], w1[1]), math.hypot(w2[0], w2[1])
@@ -579,12 +575,76 @@ def _span_notch(D: _Rings, A: int, run: list, Dv: int, s: float) -> bool:
     for phi in (phi1, phi2):
         if not -math.sin(phi) * nl[0] + math.cos(phi) * nl[1] > depth / r:
             return False
-    D._arcs[int(s)] = (centres, start, sweep)
     D.c[run] = E
     D.phi[A], D.length[A], D.theta[A] = phi1, math.sqrt(d1 * d1 - 4 * r * r), tA
     D.phi[run[:-1]], D.length[run[:-1]], D.theta[run[:-1]] = phi1, 0.0, 0.0
     D.phi[last], D.length[last], D.theta[last] = phi2, math.sqrt(d2 * d2 - 4 * r * r), tE
     D.theta[Dv] = tD
+    return True
+
+
+def _arc_cut(start: float, sweep: float, at: float, keep_first: bool, toward: float, beta: float):
+    """An arc (start, signed sweep) cut at angle ``at``: its part before (``keep_first``) or after, as
+    ``(start, sweep)``; None unless ``at`` lies on it and the part removed lies in the open cap of
+    directions within ``beta`` of ``toward``, ``at`` on the cap's edge."""
+    cut = _wrap(at - start)
+    if cut * sweep < 0 or abs(cut) > abs(sweep):
+        return None
+    edge = _wrap(at - toward)                       # ±β
+    removed = sweep - cut if keep_first else -cut   # from ``at``, signed, to the far end of the part removed
+    if abs(abs(edge) - beta) > 1e-9 or (removed != 0 and not abs(edge + removed) < beta):
+        return None
+    return (start, cut) if keep_first else (at, sweep - cut)
+
+
+def _slide_mouth(D: _Rings, X: int, wall: int, corner: int, forward: bool, near: list) -> bool:
+    """Slide the disk of a notch's (tab's) mouth corner X along the offset of its wall (the edge before A,
+    forward; the edge after D, back) until it meets the run's end corner, as `_bridge_steps` slides a
+    step's disk; in place, False if it cannot.
+
+    On X's side the offset of the edge from X to the corner is gone, and the arc about the corner starts
+    (ends) at the moved centre. Removing them is sound where every point removed is nearer than r to the
+    wall: the offset is checked as in `_covered`; the arc part removed must lie where the corner's circle
+    dips below the wall's offset line (directions within β of the way to the wall) and project onto the
+    wall segment.
+    """
+    r, side = D.r, float(D.side[X])
+    base = D.v[X] + side * r * D.n[wall]
+    x = _circle_hit(base, D.u[wall], D.v[corner], r, first=forward)
+    if x is None or (x > 0 if forward else x < 0):
+        return False
+    c = base + x * D.u[wall]
+    edge = X if forward else corner                 # the edge between X and the corner
+    if not _covered(D, [edge], side, near):
+        return False
+    height = float((D.v[corner] - D.v[X]) @ (side * D.n[wall]))   # the corner above the wall, on X's side
+    if not 0 < height < 2 * r:
+        return False
+    down = -side * D.n[wall]
+    beta = math.pi - math.acos((r - height) / r)
+    centres, start, sweep = D.arcs(int(side))
+    n = int(np.cumsum(D.side != side)[corner] - 1)
+    at = math.atan2(c[1] - D.v[corner][1], c[0] - D.v[corner][0])
+    a0, sw0 = float(start[n]), float(sweep[n])
+    cut = _arc_cut(a0, sw0, at, not forward, math.atan2(down[1], down[0]), beta)
+    if cut is None:
+        return False
+    # The part removed projects onto the wall segment: extremes at its ends or where it faces ±u.
+    lo_a, span = (a0, _wrap(at - a0)) if forward else (at, sw0 - _wrap(at - a0))
+    angles = [lo_a, lo_a + span]
+    phi_u = math.atan2(D.u[wall][1], D.u[wall][0])
+    for crit in (phi_u, phi_u + math.pi):
+        k = _wrap(crit - lo_a)
+        if k * span > 0 and abs(k) < abs(span):
+            angles.append(crit)
+    base_proj = float((D.v[corner] - D.v[wall]) @ D.u[wall])
+    proj = [base_proj + r * math.cos(a - phi_u) for a in angles]
+    if not (min(proj) >= 0 and max(proj) <= D.ell[wall]):
+        return False
+    start[n], sweep[n] = cut
+    D.c[X] = c
+    D.t[X] = -x if forward else x                   # its tangent point on the wall, from X
+    D.spans.append((int(side), [edge], X))
     return True
 
 
