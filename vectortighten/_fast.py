@@ -466,10 +466,22 @@ def _same_side_runs(D: _Rings) -> bool:
         if abs(turn) < math.pi - 1e-6 and not (step[h] or step[last]) and _merge_run(D, run, s, turn):
             outer += [h, last]
         else:
+            # The mouth: the nearest corners of the other side, across at most a few corners of side s
+            # whose edges fit (a wall digitised with a slight bend just before the notch).
             A, Dv = h, int(nxt[last])
-            if D.side[A] == s or D.side[Dv] == s or short[prv[A]] or short[Dv] or mouth[A] or mouth[Dv]:
+            for _ in range(3):
+                if D.side[A] != s or short[prv[A]]:
+                    break
+                run.insert(0, A)
+                A = int(prv[A])
+            for _ in range(3):
+                if D.side[Dv] != s or short[Dv]:
+                    break
+                run.append(Dv)
+                Dv = int(nxt[Dv])
+            if D.side[A] == s or D.side[Dv] == s or short[prv[A]] or short[Dv] or mouth[[A, Dv] + run].any():
                 return False
-            mouth[A] = mouth[Dv] = True
+            mouth[[A, Dv] + run] = True
             notches.append((A, run, Dv, s))
         keep[run[:-1]] = False
     if outer:
