@@ -69,8 +69,10 @@ def test_a_gentle_step_keeps_its_corner_disks():
 
 
 def test_a_step_beside_another_short_edge_goes_to_the_general_engine():
-    # A notch 0.5 wide and deep: three short edges in a row.
-    S = Polygon([(0, 0), (5, 0), (5, 0.5), (5.5, 0.5), (5.5, 0), (10, 0), (10, 10), (0, 10)])
+    # A notch 0.5 wide and 0.7 deep (taken by `_same_side_runs`) whose left mouth corner's wall is a step
+    # 0.3 high: the step's disk and the notch's mouth disk would be the same.
+    S = Polygon([(0, 0), (4.8, 0), (4.8, 0.3), (5, 0.3), (5, 1), (5.5, 1), (5.5, 0.3), (10, 0.3), (10, 10),
+                 (0, 10)])
     assert vt.tighten(S, 1.0)._cache["_path"] == "general"
 
 
