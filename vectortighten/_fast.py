@@ -12,8 +12,14 @@ step on the inner tangent of its two corner disks, each disk where it touches bo
 own tangent is longer than the step, slid along the other edge until it meets the step's far end. The
 same exact tests then run on the moved disks and the trimmed offset curves, and each bridge is measured
 exactly against both offset curves (`_bridges_clear`). Steps may follow one another (a jog just before a
-corner) as long as no disk has to slide along a step; a short edge between two corners of the same side
-(a notch's floor, a small bevel) goes to the general engine.
+corner) as long as no disk has to slide along a step.
+
+Short edges between two corners of the same side are taken too (`_same_side_runs`): a run of such corners
+(a bevel, a round corner digitised by a few chords, a chamfered inner corner) becomes the one disk tangent
+to the edges on either side of it; a slot or a tab narrower than 2r, whose run turns through π, is spanned
+by the disk through its mouth's two corners, bridged like a step from their disks (which may slide along
+their walls), the offset curves trimmed where an exact test shows every point removed nearer than r to
+S's boundary. A run beside a step goes to the general engine.
 
 Why the checks suffice: the straight pieces lie on the boundary of S, which never meets the (open) core or
 anticore; a valid disk at a convex vertex lies in S, so its arc cannot enter the anticore, and an arc that
