@@ -56,7 +56,7 @@ def test_a_bevelled_corner_is_one_disk(init):
     r, c = 1.0, 0.3
     S = Polygon([(0, 0), (10 - c, 0), (10, c), (10, 5), (5, 5), (5, 10), (0, 10)])
     T = _fast_and_right(S, r, init)
-    centres, sides = _disks(T)
+    centres, _ = _disks(T)
     assert len(centres) == 6                        # one disk a corner: the bevel's two merged
     assert _has(centres, 10 - r, r)
 
@@ -69,11 +69,11 @@ def test_a_round_corner_of_four_chords_is_one_disk():
     arc = [(9.5 + R * math.cos(a), 4.5 + R * math.sin(a)) for a in np.linspace(0, math.pi / 2, 5)]
     S = Polygon([(0, 0), (10, 0)] + arc + [(5, 5), (5, 10), (0, 10)])
     T = _fast_and_right(S, r)
-    centres, sides = _disks(T)
+    centres, _ = _disks(T)
     assert len(centres) == 6
     assert _has(centres, 10 - r, 5 - r)
     (L,) = T.loops
-    arcs = [p for p in L.pieces if hasattr(p, "sweep") and math.hypot(p.center[0] - 9, p.center[1] - 4) < 1e-9]
+    arcs = [p for p in L.pieces if hasattr(p, "sweep") and math.dist(p.center, (9, 4)) < 1e-9]
     assert len(arcs) == 1 and abs(arcs[0].sweep) == pytest.approx(math.pi / 2, abs=1e-12)
 
 
@@ -101,7 +101,7 @@ def test_a_deep_slot_narrower_than_2r(w, h, init):
     # (5 + w + r, r).
     r = 1.0
     T = _fast_and_right(_slot(w, h), r, init)
-    centres, sides = _disks(T)
+    centres, _ = _disks(T)
     assert len(centres) == 7                        # 4 block corners, 2 mouth corners, E
     assert _has(centres, 5 + w / 2, -math.sqrt(r * r - w * w / 4))
     assert _has(centres, 5 - r, r) and _has(centres, 5 + w + r, r)

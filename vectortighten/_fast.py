@@ -259,9 +259,11 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
     shapely.prepare(S)
     # A side of radius 0 (two radii) keeps its corners sharp: its shrink (grow) is S itself, which the
     # straight pieces lie on and the other side's arcs stay out of; nothing to check there. The
-    # certificates read the offset curves of disks at S's vertices: not where a step was bridged.
+    # certificates read the offset curves of disks at S's vertices: not where a step was bridged or a run
+    # merged.
+    plain = not len(D.bridged) and D.keep is None
     certified = {side: True if D.pair and D.radius(side) == 0 else
-                 (not len(D.bridged) and D.keep is None and _offset_certified(D, S, side)) for side in (1, -1)}
+                 (plain and _offset_certified(D, S, side)) for side in (1, -1)}
     # A certified side's offset curves lie wholly in S (+1) or outside it (−1), and its centres with them.
     open_ = np.flatnonzero([not certified[s] for s in D.side.astype(int)]) if not all(certified.values()) \
         else np.zeros(0, np.int64)
