@@ -165,7 +165,7 @@ def featured_blocks(draw):
     return shapely.affinity.rotate(S, draw(st.floats(0, 360)), origin=(0, 0)) if S.is_valid else None
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(S=featured_blocks(), init=st.sampled_from(["core", "input", "mason"]))
 def test_fast_results_with_runs_are_the_general_engines(S, init):
     if S is None:
