@@ -1,6 +1,7 @@
 """Far-apart parts of a MultiPolygon are tightened alone (`engine._split_fast`): the groups the fast path
 takes skip the general engine, and the answer is the one the general engine gives on the whole shape."""
 
+import math
 import warnings
 
 import numpy as np
@@ -83,9 +84,11 @@ def test_only_general_groups_take_the_whole_shape_as_before():
 
 
 def test_a_group_the_convex_path_takes_verifies_as_such():
-    # A convex polygon with an edge shorter than its corners' tangents: the fast path declines it, the
-    # closed form for convex polygons takes it.
-    octagon = Polygon([(0, 0), (10, 0), (10.3, 0.3), (10.3, 10), (0, 10)])
+    # A convex polygon whose short edges the fast path cannot merge (a long wedge's tip cut by a roof of
+    # three edges, the two merged corners' tangents overlapping on the middle one): the fast path declines
+    # it, the closed form for convex polygons takes it.
+    hw, y0 = 2 * math.tan(math.radians(20)), 20 * math.tan(math.radians(20))
+    octagon = Polygon([(0, -y0), (18, -hw), (18.15, -hw / 2), (18.15, hw / 2), (18, hw), (0, y0)])
     S = MultiPolygon([affinity.translate(octagon, 70, 240), STEPPED])
     T = vt.tighten(S, 1.0)
     assert sorted(m._cache["_path"] for m in T._cache["_members"]) == ["convex", "general"]

@@ -69,8 +69,10 @@ def test_a_gentle_step_keeps_its_corner_disks():
 
 
 def test_a_step_beside_another_short_edge_goes_to_the_general_engine():
-    # A notch 0.5 wide and deep: three short edges in a row.
-    S = Polygon([(0, 0), (5, 0), (5, 0.5), (5.5, 0.5), (5.5, 0), (10, 0), (10, 10), (0, 10)])
+    # A notch 0.5 wide and 0.7 deep (taken by `_same_side_runs`) whose left mouth corner's wall is a step
+    # 0.3 high: the step's disk and the notch's mouth disk would be the same.
+    S = Polygon([(0, 0), (4.8, 0), (4.8, 0.3), (5, 0.3), (5, 1), (5.5, 1), (5.5, 0.3), (10, 0.3), (10, 10),
+                 (0, 10)])
     assert vt.tighten(S, 1.0)._cache["_path"] == "general"
 
 
@@ -183,22 +185,24 @@ def test_a_neck_narrower_than_2r_parts_the_core():
 def test_a_cut_away_piece_must_be_nearer_than_r_to_s():
     # `_covered` on a wall along y = 0 (r = 1): a segment at height 0.5 is covered; one at height 1 is
     # not, but for an end kept (exactly r away there is the moved centre); an arc about (0, 0) is covered
-    # where it dips below y = 1 only.
+    # where it dips below y = 1 only; a piece of the wall's own offset is not covered by the wall itself.
     from vectortighten import _fast
     from vectortighten import morphology as M
 
     D = _fast._Rings(M._orient(shapely.box(-10, -10, 10, 0)), 1.0)
     p, q = np.array([-2.0, 0.5]), np.array([2.0, 0.5])
-    assert _fast._covered(D, [("seg", (p, q), False, False)])
+    assert _fast._covered(D, [("seg", (p, q), False, False, ())])
     high = (np.array([-2.0, 1.0]), np.array([2.0, 1.0]))
-    assert not _fast._covered(D, [("seg", high, False, False)])
+    assert not _fast._covered(D, [("seg", high, False, False, ())])
     rising = (np.array([-2.0, 0.5]), np.array([-2.0, 1.0]))
-    assert _fast._covered(D, [("seg", rising, False, True)])
-    assert not _fast._covered(D, [("seg", rising, True, False)])
+    assert _fast._covered(D, [("seg", rising, False, True, ())])
+    assert not _fast._covered(D, [("seg", rising, True, False, ())])
     centre = np.array([0.0, 0.0])
-    assert _fast._covered(D, [("arc", (centre, 0.1, 1.2), False, False)])
-    assert not _fast._covered(D, [("arc", (centre, 0.1, 1.5), False, False)])
-    assert _fast._covered(D, [("arc", (centre, 0.1, math.pi / 2 - 0.1), False, True)])
+    assert _fast._covered(D, [("arc", (centre, 0.1, 1.2), False, False, ())])
+    assert not _fast._covered(D, [("arc", (centre, 0.1, 1.5), False, False, ())])
+    assert _fast._covered(D, [("arc", (centre, 0.1, math.pi / 2 - 0.1), False, True, ())])
+    wall = int(np.flatnonzero((D.v[:, 1] == 0) & (D.v[D.next, 1] == 0))[0])
+    assert not _fast._covered(D, [("seg", (p, q), False, False, (wall,))])
 
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -14,8 +14,14 @@ same exact tests then run on the moved disks and the trimmed offset curves, and 
 exactly against both offset curves (`_bridges_clear`). Steps may follow one another (a jog, a staircase
 of a few treads): a disk may slide along a step, a corner between two steps too short for its tangent
 rests on both far ends, and a corner whose disk lies beyond its neighbours' common tangent is passed by.
-What the moved disks cut from the offset curves is proven nearer than r to S (`_covered`). A short edge
-between two corners of the same side (a notch's floor, a small bevel) goes to the general engine.
+
+Short edges between two corners of the same side are taken too (`_same_side_runs`): a run of such corners
+(a bevel, a round corner digitised by a few chords, a chamfered inner corner) becomes the one disk tangent
+to the edges on either side of it; a slot or a tab narrower than 2r, whose run turns through π, is spanned
+by the disk through its mouth's two corners, bridged like a step from their disks (which may slide along
+their walls). A run beside a step goes to the general engine. Whatever a moved disk or a span cuts from
+the offset curves is proven nearer than r to S's boundary (`_covered`), so none of it was on the shrink's
+(grow's) boundary.
 
 Why the checks suffice: the straight pieces lie on the boundary of S, which never meets the (open) core or
 anticore; a valid disk at a convex vertex lies in S, so its arc cannot enter the anticore, and an arc that
@@ -145,7 +151,9 @@ class _Rings:
         self.length = self.ell - self.t - self._succ(self.t)            # straight piece on edge i
         self.phi = np.arctan2(uy, ux)
         self.bridged = np.zeros(0, dtype=np.int64)     # edges whose step a bridge crosses (`_bridge_steps`)
-        self.dropped = None                            # corners the loop passes by (`_bridge_steps`)
+        self.keep = None                # vertices left in the loops, where runs merged (`_same_side_runs`)
+        self.dropped = None             # corners the loop passes by (`_bridge_steps`)
+        self.spans = []                 # (side, edges, vertex): offsets trimmed to its centre (`_trim_spans`)
         self._offsets, self._arcs = {}, {}
         self._sagitta = None
 
@@ -243,15 +251,26 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
     if not D.ok or (np.abs(D.theta) > math.pi - 1e-6).any():
         # A spike: no disk fits its corner (kept sharp by a radius 0, its two sides would touch).
         return None
-    if (D.length < -1e-12 * np.maximum(D.ell, r)).any() and (D.pair or not _bridge_steps(D)):
-        return None                                     # two disks do not fit on one edge
+    if (D.length < -1e-12 * np.maximum(D.ell, r)).any():
+        # Two disks do not fit on one edge: same-side runs (`_same_side_runs`) first, then steps.
+        if D.pair or not _same_side_runs(D):
+            return None
+        if (D.length < -1e-12 * np.maximum(D.ell, r)).any():
+            runs = D.bridged
+            if not _bridge_steps(D):
+                return None
+            D.bridged = np.concatenate([runs, D.bridged])
+        if D.spans:
+            _trim_spans(D)
     length = np.maximum(D.length, 0.0)
     shapely.prepare(S)
     # A side of radius 0 (two radii) keeps its corners sharp: its shrink (grow) is S itself, which the
     # straight pieces lie on and the other side's arcs stay out of; nothing to check there. The
-    # certificates read the offset curves of disks at S's vertices: not where a step was bridged.
+    # certificates read the offset curves of disks at S's vertices: not where a step was bridged or a run
+    # merged.
+    plain = not len(D.bridged) and D.keep is None
     certified = {side: True if D.pair and D.radius(side) == 0 else
-                 (not len(D.bridged) and _offset_certified(D, S, side)) for side in (1, -1)}
+                 (plain and _offset_certified(D, S, side)) for side in (1, -1)}
     # A certified side's offset curves lie wholly in S (+1) or outside it (−1), and its centres with them.
     open_ = np.flatnonzero([not certified[s] for s in D.side.astype(int)]) if not all(certified.values()) \
         else np.zeros(0, np.int64)
@@ -284,11 +303,14 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
             return None
     if len(D.bridged) and not _bridges_clear(D):
         return None
-    slices = D.slices if D.dropped is None or not D.dropped.any() else \
-        [np.flatnonzero(~D.dropped[sl]) + sl.start for sl in D.slices]
-    if D.pair:
-        return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl], D.rv[sl]) for sl in slices]
-    return [(D.c[sl], D.side[sl], D.phi[sl], length[sl], D.theta[sl]) for sl in slices]
+    # Left out of the loops: the corners a run merged into one disk, and those a tangent passes by.
+    kept = None if D.keep is None else D.keep.copy()
+    if D.dropped is not None and D.dropped.any():
+        kept = ~D.dropped if kept is None else kept & ~D.dropped
+    fields = (D.c, D.side, D.phi, length, D.theta) + ((D.rv,) if D.pair else ())
+    if kept is None:
+        return [tuple(x[sl] for x in fields) for sl in D.slices]
+    return [tuple(x[sl][kept[sl]] for x in fields) for sl in D.slices]
 
 
 # -- steps: a convex and a reflex corner closer than their disks' tangents ---------------------------------
@@ -436,7 +458,7 @@ def _bridge_steps(D: _Rings) -> bool:
             if moved.get(mine) not in (i, _WEDGED):   # not moved, or moved for its other edge's step
                 continue
             # The offset of edge i runs between the moved centre (kept, a point now) and the far arc.
-            cut_away.append(("seg", (a[i].copy(), b[i].copy()), mine == i, mine == j))
+            cut_away.append(("seg", (a[i].copy(), b[i].copy()), mine == i, mine == j, (i,)))
             a[i] = b[i] = D.c[mine]
             n = k_of[far]
             ang = math.atan2(*(D.c[mine] - D.v[far])[::-1])
@@ -444,13 +466,13 @@ def _bridge_steps(D: _Rings) -> bool:
                 cut = _wrap(ang - start[n])
                 if cut * sweep[n] < 0 or abs(cut) > abs(sweep[n]):
                     return False
-                cut_away.append(("arc", (D.v[far], start[n], cut), False, True))
+                cut_away.append(("arc", (D.v[far], start[n], cut), False, True, (int(D.prev[far]), far)))
                 start[n], sweep[n] = ang, sweep[n] - cut
             else:                               # the arc about i ends where centre j meets it
                 keep = _wrap(ang - start[n])
                 if keep * sweep[n] < 0 or abs(keep) > abs(sweep[n]):
                     return False
-                cut_away.append(("arc", (D.v[far], ang, sweep[n] - keep), True, False))
+                cut_away.append(("arc", (D.v[far], ang, sweep[n] - keep), True, False, (int(D.prev[far]), far)))
                 sweep[n] = keep
         D._arcs[side] = (centres, start, sweep)
     return _covered(D, cut_away)
@@ -462,9 +484,12 @@ _KEPT = 1e-9          # `_covered`: crossings this near a kept end (a fraction o
 def _covered(D: _Rings, pieces) -> bool:
     """Whether every point of each piece, but the ends marked kept, is nearer than r to an edge of S.
 
-    ``pieces``: ``(kind, geometry, keep_start, keep_end)``, a segment ``("seg", (p, q))`` or an arc of
-    radius r ``("arc", (centre, start, sweep))``. Such a point is not on the boundary of the shrink or the
-    grow (every point of which is exactly r from S), so the piece can be cut from the raw offset curves.
+    ``pieces``: ``(kind, geometry, keep_start, keep_end, own)``, a segment ``("seg", (p, q))`` or an arc of
+    radius r ``("arc", (centre, start, sweep))``, and the edges whose offset it was (an edge's offset
+    segment; an arc's vertex's two edges), set aside: the piece lies on the boundary of their capsules, so
+    they cover none of it, and rounding must not say otherwise. A point nearer than r to S is not on the
+    boundary of the shrink or the grow (every point of which is exactly r from S), so the piece can be cut
+    from the raw offset curves.
 
     Exact up to rounding: the points nearer than r to an edge form an open capsule, convex, so along a
     piece the set it covers changes only where the piece crosses the capsule's boundary (two circles about
@@ -476,7 +501,7 @@ def _covered(D: _Rings, pieces) -> bool:
     r = D.r
     edges = shapely.linestrings(np.stack([D.v, D.v[D.next]], axis=1))
     tree = shapely.STRtree(edges)
-    for kind, geom, keep0, keep1 in pieces:
+    for kind, geom, keep0, keep1, own in pieces:
         if kind == "seg":
             p, q = geom
             w = q - p
@@ -488,6 +513,7 @@ def _covered(D: _Rings, pieces) -> bool:
             probe = shapely.points(o)
         reach = r if kind == "seg" else 2.0 * r
         e = tree.query(probe, predicate="dwithin", distance=reach * (1 + 1e-9))
+        e = e[~np.isin(e, own)]
         if not len(e):
             return False
         a, b = D.v[e], D.v[D.next[e]]
@@ -579,6 +605,270 @@ def _circle_hit(base: np.ndarray, u: np.ndarray, x: np.ndarray, r: float, first:
         return None
     root = math.sqrt(disc)
     return -b - root if first else -b + root
+
+
+# -- same-side runs: corners of one side closer than their disks' tangents ----------------------------------
+# A short edge between two corners of the same side (a bevel, two chords of a digitised round corner, a
+# notch's floor): a maximal run of corners i_1 … i_k of side s joined by short edges, between the edge h
+# arriving at i_1 and the edge e leaving i_k.
+#
+# * Merged corner (|Θ| < π, Θ the run's total turn). Near the run the shrink (s = +1; the grow outside S
+#   for s = −1) is the intersection of the half-planes bounded by the offset lines of h, the inner edges and
+#   e, whose directions turn monotonically through less than π. Each surviving line bounds one edge of that
+#   intersection, which lies in the segment its neighbours' lines cut from it; for an inner edge that
+#   segment has negative length (the edge is short), so no inner line survives, and h and e meet at one
+#   vertex C: the centre of the one disk tangent to h and e, about the intersection V of their lines as at
+#   any corner. The run becomes that disk, turning by Θ; its tangent points must fall on h and e (checked),
+#   and the straight pieces on h and e shrink to match (≥ 0, else the general engine). The offset curves
+#   on side s pass through C (the inner edges' offsets shrink to the point C); the other side's, the arcs
+#   about the run's corners, are unchanged.
+# * Notch or tab (|Θ| ≥ π: a slot, or a protrusion, between corners A and D of the other side). With
+#   |AD| < 2r, the disk E of radius r through A and D on side s is the corner of the grow (a notch, s = −1;
+#   the shrink for a tab) where the arcs about A and D meet: the loop goes from A's own disk, on the inner
+#   tangent, to E, around E, and on to D's disk. On side s the offsets of the run's edges and the parts of
+#   the arcs about A and D beyond E are trimmed away: sound only where every point removed is nearer than r
+#   to S's boundary, which is checked exactly (`_covered`: the run's edges' whole offsets against the open
+#   capsules of the edges nearby; the arcs against the other corner's open disk).
+#
+# The dropped corners stay in the arrays as disks of sweep 0 at the merged centre (their edges of length 0,
+# leaving in the direction that arrives at the run), so every exact test reads them as points of the one
+# arc; `_Rings.keep` leaves them out of the loops. A run next to a step, or a notch whose mouth corner is
+# also another run's, goes to the general engine.
+
+def _same_side_runs(D: _Rings) -> bool:
+    """Merge every run of same-side short edges into one corner, or span it as a notch or tab (see above),
+    in place; False if some run cannot be taken (the general engine must take S). Steps are left short for
+    `_bridge_steps`."""
+    r = D.r
+    short = D.length < -1e-12 * np.maximum(D.ell, r)
+    nxt, prv = D.next, D.prev
+    inner = short & (D.side == D.side[nxt])
+    if not inner.any():
+        return True
+    if any(inner[sl].all() for sl in D.slices):
+        return False
+    step = short & ~inner
+    for side in (1, -1):
+        D.arcs(side)                                # cached about the original corners, before turns change
+    keep = np.ones(len(D.v), bool)
+    mouth = np.zeros(len(D.v), bool)
+    outer, notches = [], []
+    for first in np.flatnonzero(inner & ~inner[prv]).tolist():
+        run = [first]
+        while inner[run[-1]]:
+            run.append(int(nxt[run[-1]]))
+        last, h = run[-1], int(prv[first])
+        s = float(D.side[first])
+        turn = float(D.theta[run].sum())
+        # One merged corner where it fits (not beside a step), else a notch or tab where one spans it.
+        if abs(turn) < math.pi - 1e-6 and not (step[h] or step[last]) and _merge_run(D, run, s, turn):
+            outer += [h, last]
+        else:
+            # The mouth: the nearest corners of the other side, across at most a few corners of side s
+            # whose edges fit (a wall digitised with a slight bend just before the notch).
+            A, Dv = h, int(nxt[last])
+            for _ in range(3):
+                if D.side[A] != s or short[prv[A]]:
+                    break
+                run.insert(0, A)
+                A = int(prv[A])
+            for _ in range(3):
+                if D.side[Dv] != s or short[Dv]:
+                    break
+                run.append(Dv)
+                Dv = int(nxt[Dv])
+            if D.side[A] == s or D.side[Dv] == s or short[prv[A]] or short[Dv] or mouth[[A, Dv] + run].any():
+                return False
+            mouth[[A, Dv] + run] = True
+            notches.append((A, run, Dv, s))
+        keep[run[:-1]] = False
+    if outer:
+        e = np.array(outer)
+        D.length[e] = D.ell[e] - D.t[e] - D.t[nxt[e]]
+        if (D.length[e] < -1e-12 * np.maximum(D.ell[e], r)).any():
+            return False                            # a merged disk's tangent runs past its outer edge
+    bridged = []
+    for A, run, Dv, s in notches:
+        if not _span_notch(D, A, run, Dv, s):
+            return False
+        bridged += [A, run[-1]]
+    D.keep = keep
+    D.bridged = np.array(bridged, dtype=np.int64)
+    D._sagitta = None
+    D.spans += [(int(s), [A] + run, run[-1]) for A, run, Dv, s in notches]
+    return True
+
+
+def _trim_spans(D: _Rings) -> None:
+    """The offsets on side s of a notch's (tab's) edges are gone, points at E (`_span_notch` checked that
+    every point of them is nearer than r to S's boundary). After the steps have moved their disks."""
+    for s, edges, at in D.spans:
+        a, b = D._offset_ends(s)
+        a[edges] = b[edges] = D.c[at]
+
+
+def _merge_run(D: _Rings, run: list, s: float, turn: float) -> bool:
+    """One disk for the run's corners, tangent to the edges h before it and e after (see above)."""
+    first, last = run[0], run[-1]
+    h = int(D.prev[first])
+    uh, ue = D.u[h], D.u[last]
+    sine = uh[0] * ue[1] - uh[1] * ue[0]
+    if not abs(sine) > 1e-9:
+        return False
+    w = D.v[last] - D.v[first]
+    a = (w[0] * ue[1] - w[1] * ue[0]) / sine        # V = v[first] + a·uh = v[last] + b·ue
+    b = (w[0] * uh[1] - w[1] * uh[0]) / sine
+    t = D.r * math.tan(0.5 * abs(turn))
+    foot_h, foot_e = t - a, t + b                   # tangent points: back from v[first], on from v[last]
+    if not (foot_h >= 0 and foot_e >= 0):
+        return False
+    # The straight pieces on h and e, with the disks at their other ends as they are now.
+    if not (D.ell[h] - D.t[h] - foot_h >= -1e-12 * max(D.ell[h], D.r)
+            and D.ell[last] - foot_e - D.t[D.next[last]] >= -1e-12 * max(D.ell[last], D.r)):
+        return False
+    V = D.v[first] + a * uh
+    C = V + (s * D.r / (1.0 + float(uh @ ue))) * (D.n[h] + D.n[last])
+    D.t[first], D.t[last] = foot_h, foot_e
+    D.c[run] = C
+    D.theta[run[:-1]] = 0.0
+    D.theta[last] = turn
+    D.phi[run[:-1]] = D.phi[h]
+    D.length[run[:-1]] = 0.0
+    return True
+
+
+_GRAZING = 0.25       # a notch's disk E at least this × r beyond its mouth (`_span_notch`)
+
+
+def _span_notch(D: _Rings, A: int, run: list, Dv: int, s: float) -> bool:
+    """The disk E through A and D on side s, bridged from A's disk and to D's (see above)."""
+    r, last = D.r, run[-1]
+    chord = D.v[Dv] - D.v[A]
+    w = math.hypot(chord[0], chord[1])
+    if not w < 2.0 * r * (1 - 1e-9):
+        return False
+    depth = math.sqrt(r * r - 0.25 * w * w)
+    if depth < _GRAZING * r:
+        # The circles about A and D cross at E at an angle of about 2·depth/r: the final check's coarse
+        # buffers misplace such a corner by their chords' sagitta over that angle, and would flag the
+        # exact answer. A mouth this close to 2r goes to the general engine.
+        return False
+    nl = np.array([-chord[1], chord[0]]) / w
+    E = 0.5 * (D.v[A] + D.v[Dv]) + (s * depth) * nl
+    # A's and D's own disks touch the edges into the notch, or slide along the walls until they meet the
+    # run's end corners (`_slide_mouth`).
+    for X, wall, corner, forward in ((A, int(D.prev[A]), run[0], True), (Dv, Dv, last, False)):
+        if D.t[X] > D.ell[A if forward else last] and not _slide_mouth(D, X, wall, corner, forward):
+            return False
+    for e in (int(D.prev[A]), Dv):
+        D.length[e] = D.ell[e] - D.t[e] - D.t[D.next[e]]
+        if D.length[e] < -1e-12 * max(D.ell[e], r):
+            return False
+    # The trimmed pieces of side s: every point nearer than r to S's boundary.
+    edges = [A] + run                               # the edges from A to D
+    if not _covered(D, _whole_offsets(D, edges, s)):
+        return False
+    centres, start, sweep = D.arcs(int(s))
+    k_of = np.cumsum(D.side != s) - 1               # index of a vertex's arc on side s
+    beta = math.acos(min(1.0, 0.5 * w / r))         # the arc about A inside D's open disk: ±β about A→D
+    for X, Y, keep_first in ((A, Dv, True), (Dv, A, False)):
+        n = int(k_of[X])
+        cut = _arc_cut(float(start[n]), float(sweep[n]), math.atan2(*(E - D.v[X])[::-1]), keep_first,
+                       math.atan2(*(D.v[Y] - D.v[X])[::-1]), beta)
+        if cut is None:
+            return False                            # not all of it in the other corner's open disk
+        start[n], sweep[n] = cut
+    # The bridges: inner tangents, A's disk to E and E to D's.
+    w1, w2 = E - D.c[A], D.c[Dv] - E
+    d1, d2 = math.hypot(w1[0], w1[1]), math.hypot(w2[0], w2[1])
+    if not (d1 > 2.0 * r * (1 + 1e-9) and d2 > 2.0 * r * (1 + 1e-9)):
+        return False
+    phi1 = math.atan2(w1[1], w1[0]) + D.side[A] * math.asin(2.0 * r / d1)
+    phi2 = math.atan2(w2[1], w2[0]) + s * math.asin(2.0 * r / d2)
+    tA, tE, tD = _wrap(phi1 - D.phi[D.prev[A]]), _wrap(phi2 - phi1), _wrap(D.phi[Dv] - phi2)
+    if not (tA * D.side[A] > 0 and tE * s > 0 and tD * D.side[Dv] > 0):
+        return False
+    # E's arc runs between A and D, on the far side of the chord: where E's disk touches the grow's corner.
+    for phi in (phi1, phi2):
+        if not -math.sin(phi) * nl[0] + math.cos(phi) * nl[1] > depth / r:
+            return False
+    D.c[run] = E
+    D.phi[A], D.length[A], D.theta[A] = phi1, math.sqrt(d1 * d1 - 4 * r * r), tA
+    D.phi[run[:-1]], D.length[run[:-1]], D.theta[run[:-1]] = phi1, 0.0, 0.0
+    D.phi[last], D.length[last], D.theta[last] = phi2, math.sqrt(d2 * d2 - 4 * r * r), tE
+    D.theta[Dv] = tD
+    return True
+
+
+def _arc_cut(start: float, sweep: float, at: float, keep_first: bool, toward: float, beta: float):
+    """An arc (start, signed sweep) cut at angle ``at``: its part before (``keep_first``) or after, as
+    ``(start, sweep)``; None unless ``at`` lies on it and the part removed lies in the open cap of
+    directions within ``beta`` of ``toward``, ``at`` on the cap's edge."""
+    cut = _wrap(at - start)
+    if cut * sweep < 0 or abs(cut) > abs(sweep):
+        return None
+    edge = _wrap(at - toward)                       # ±β
+    removed = sweep - cut if keep_first else -cut   # from ``at``, signed, to the far end of the part removed
+    if abs(abs(edge) - beta) > 1e-9 or (removed != 0 and not abs(edge + removed) < beta):
+        return None
+    return (start, cut) if keep_first else (at, sweep - cut)
+
+
+def _slide_mouth(D: _Rings, X: int, wall: int, corner: int, forward: bool) -> bool:
+    """Slide the disk of a notch's (tab's) mouth corner X along the offset of its wall (the edge before A,
+    forward; the edge after D, back) until it meets the run's end corner, as `_bridge_steps` slides a
+    step's disk; in place, False if it cannot.
+
+    On X's side the offset of the edge from X to the corner is gone, and the arc about the corner starts
+    (ends) at the moved centre. Removing them is sound where every point removed is nearer than r to the
+    wall: the offset is checked as in `_covered`; the arc part removed must lie where the corner's circle
+    dips below the wall's offset line (directions within β of the way to the wall) and project onto the
+    wall segment.
+    """
+    r, side = D.r, float(D.side[X])
+    base = D.v[X] + side * r * D.n[wall]
+    x = _circle_hit(base, D.u[wall], D.v[corner], r, first=forward)
+    if x is None or (x > 0 if forward else x < 0):
+        return False
+    c = base + x * D.u[wall]
+    edge = X if forward else corner                 # the edge between X and the corner
+    if not _covered(D, _whole_offsets(D, [edge], side)):
+        return False
+    height = float((D.v[corner] - D.v[X]) @ (side * D.n[wall]))   # the corner above the wall, on X's side
+    if not 0 < height < 2 * r:
+        return False
+    down = -side * D.n[wall]
+    beta = math.pi - math.acos((r - height) / r)
+    centres, start, sweep = D.arcs(int(side))
+    n = int(np.cumsum(D.side != side)[corner] - 1)
+    at = math.atan2(c[1] - D.v[corner][1], c[0] - D.v[corner][0])
+    a0, sw0 = float(start[n]), float(sweep[n])
+    cut = _arc_cut(a0, sw0, at, not forward, math.atan2(down[1], down[0]), beta)
+    if cut is None:
+        return False
+    # The part removed projects onto the wall segment: extremes at its ends or where it faces ±u.
+    lo_a, span = (a0, _wrap(at - a0)) if forward else (at, sw0 - _wrap(at - a0))
+    angles = [lo_a, lo_a + span]
+    phi_u = math.atan2(D.u[wall][1], D.u[wall][0])
+    for crit in (phi_u, phi_u + math.pi):
+        k = _wrap(crit - lo_a)
+        if k * span > 0 and abs(k) < abs(span):
+            angles.append(crit)
+    base_proj = float((D.v[corner] - D.v[wall]) @ D.u[wall])
+    proj = [base_proj + r * math.cos(a - phi_u) for a in angles]
+    if not (min(proj) >= 0 and max(proj) <= D.ell[wall]):
+        return False
+    start[n], sweep[n] = cut
+    D.c[X] = c
+    D.t[X] = -x if forward else x                   # its tangent point on the wall, from X
+    D.spans.append((int(side), [edge], X))
+    return True
+
+
+def _whole_offsets(D: _Rings, edges: list, s: float) -> list:
+    """The offsets by r of ``edges`` to side s, end to end, as `_covered`'s pieces (no end kept)."""
+    return [("seg", (D.v[e] + s * D.r * D.n[e], D.v[D.next[e]] + s * D.r * D.n[e]), False, False, (int(e),))
+            for e in edges]
 
 
 def _bridges_clear(D: _Rings) -> bool:

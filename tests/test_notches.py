@@ -1,0 +1,178 @@
+"""Short edges between corners of the same side on the fast path (`_fast._same_side_runs`): a bevel, a round
+corner digitised by a few chords and a chamfered inner corner become one corner disk; a slot (or a tab)
+narrower than 2r is spanned by the disk through its mouth's two corners. Each against closed-form centres,
+the general engine and the oracle."""
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+import shapely.affinity
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from shapely.geometry import Polygon
+
+import vectortighten as vt
+
+from .engines import assert_same, general
+from .oracle import judge
+
+
+def _exact(S, r, T):
+    J = judge(S, r, T.loops, T.geometry)
+    assert J.core_penetration <= 1e-9 * r and J.anticore_penetration <= 1e-9 * r
+    assert J.core_missing == 0 and J.anticore_covered == 0
+
+
+def _disks(T):
+    """Every disk of the loops (world coordinates) and its side."""
+    _, disk_loops, _ = T._cache["_exact"]
+    frame = T._cache["_frame"]
+    return (np.concatenate([frame.scale * L.c + (frame.ox, frame.oy) for L in disk_loops]),
+            np.concatenate([L.side for L in disk_loops]))
+
+
+def _has(c, x, y):
+    return np.hypot(c[:, 0] - x, c[:, 1] - y).min() < 1e-12
+
+
+def _fast_and_right(S, r, init="core"):
+    T = vt.tighten(S, r, init=init)
+    assert T._cache["_path"] == "fast" and T.verify() == []
+    assert_same(T, general(S, r, init), rel=1e-10)
+    _exact(S, r, T)
+    return T
+
+
+L_SHAPE = [(0, 0), (10, 0), (10, 5), (5, 5), (5, 10), (0, 10)]
+
+
+@pytest.mark.parametrize("init", ["core", "input", "mason"])
+def test_a_bevelled_corner_is_one_disk(init):
+    # The corner (10, 0) of an L cut by a 45° chamfer of legs 0.3: both 45° tangents r·tan(22.5°) do not
+    # fit on its 0.42 edge. The one disk tangent to the two walls, centre (10 − r, r), clears the chamfer
+    # ((2 − 0.3)/√2 = 1.2 from it) and turns by 90°.
+    r, c = 1.0, 0.3
+    S = Polygon([(0, 0), (10 - c, 0), (10, c), (10, 5), (5, 5), (5, 10), (0, 10)])
+    T = _fast_and_right(S, r, init)
+    centres, _ = _disks(T)
+    assert len(centres) == 6                        # one disk a corner: the bevel's two merged
+    assert _has(centres, 10 - r, r)
+
+
+def test_a_round_corner_of_four_chords_is_one_disk():
+    # A quarter circle of radius 0.5 about (9.5, 4.5), digitised by 4 chords (0.195 long; turns 11.25° at
+    # the ends, 22.5° between): no chord holds its two tangents. The corner becomes the wall corner's
+    # own disk, centre (10 − r, 5 − r), its arc turning 90°.
+    r, R = 1.0, 0.5
+    arc = [(9.5 + R * math.cos(a), 4.5 + R * math.sin(a)) for a in np.linspace(0, math.pi / 2, 5)]
+    S = Polygon([(0, 0), (10, 0)] + arc + [(5, 5), (5, 10), (0, 10)])
+    T = _fast_and_right(S, r)
+    centres, _ = _disks(T)
+    assert len(centres) == 6
+    assert _has(centres, 10 - r, 5 - r)
+    (L,) = T.loops
+    arcs = [p for p in L.pieces if hasattr(p, "sweep") and math.dist(p.center, (9, 4)) < 1e-9]
+    assert len(arcs) == 1 and abs(arcs[0].sweep) == pytest.approx(math.pi / 2, abs=1e-12)
+
+
+def test_a_chamfered_inner_corner_is_one_disk_outside():
+    # The L's reflex corner (5, 5) chamfered by legs 0.4: the disk outside S tangent to both walls,
+    # centre (5 + r, 5 + r), takes both reflex corners.
+    r, c = 1.0, 0.4
+    S = Polygon([(0, 0), (10, 0), (10, 5), (5 + c, 5), (5, 5 + c), (5, 10), (0, 10)])
+    T = _fast_and_right(S, r)
+    centres, sides = _disks(T)
+    assert len(centres) == 6
+    assert _has(centres, 5 + r, 5 + r) and sides[np.hypot(*(centres - (5 + r, 5 + r)).T).argmin()] == -1
+
+
+def _slot(w, h, x0=5.0):
+    """A block with a slot w wide and h deep cut up into its lower wall at x0 (h < 0: a tab below)."""
+    return Polygon([(0, 0), (x0, 0), (x0, h), (x0 + w, h), (x0 + w, 0), (12, 0), (12, 10), (0, 10)])
+
+
+@pytest.mark.parametrize("init", ["core", "input", "mason"])
+@pytest.mark.parametrize("w,h", [(0.5, 3.0), (1.5, 1.2)])
+def test_a_deep_slot_narrower_than_2r(w, h, init):
+    # The disk E through the mouth's corners (5, 0) and (5 + w, 0), outside S: centre sqrt(r² − w²/4)
+    # below the mouth's middle. The corners' own disks touch both their edges: centres (5 − r, r) and
+    # (5 + w + r, r).
+    r = 1.0
+    T = _fast_and_right(_slot(w, h), r, init)
+    centres, _ = _disks(T)
+    assert len(centres) == 7                        # 4 block corners, 2 mouth corners, E
+    assert _has(centres, 5 + w / 2, -math.sqrt(r * r - w * w / 4))
+    assert _has(centres, 5 - r, r) and _has(centres, 5 + w + r, r)
+
+
+@pytest.mark.parametrize("w,h", [(0.5, 0.5), (1.9, 0.9), (0.3, 0.2)])
+def test_a_shallow_slot_slides_its_mouth_disks(w, h):
+    # Shallower than r: each mouth corner's disk slides along its wall until it meets the slot's floor
+    # corner: tangent to y = 0 and through (5, h), centre (5 − sqrt(2rh − h²), r) (and mirrored).
+    r = 1.0
+    T = _fast_and_right(_slot(w, h), r)
+    centres, _ = _disks(T)
+    a = math.sqrt(2 * r * h - h * h)
+    assert _has(centres, 5 - a, r) and _has(centres, 5 + w + a, r)
+    assert _has(centres, 5 + w / 2, -math.sqrt(r * r - w * w / 4))
+
+
+@pytest.mark.parametrize("w,h", [(0.5, 3.0), (1.2, 0.4)])
+def test_a_tab_narrower_than_2r(w, h):
+    # A protrusion below the wall: E lies inside S, sqrt(r² − w²/4) above the mouth's middle.
+    r = 1.0
+    T = _fast_and_right(_slot(w, -h), r)
+    centres, sides = _disks(T)
+    i = np.hypot(*(centres - (5 + w / 2, math.sqrt(r * r - w * w / 4))).T).argmin()
+    assert _has(centres, 5 + w / 2, math.sqrt(r * r - w * w / 4)) and sides[i] == 1
+
+
+def test_cases_the_fast_path_declines():
+    r = 1.0
+    # Too shallow for E's bulge: 1.9 wide, E pokes 1 − sqrt(1 − 0.95²) = 0.69 above the mouth, the floor
+    # is 0.2 deep. The anticore's disk sits on the floor instead.
+    assert vt.tighten(_slot(1.9, 0.2), r)._cache["_path"] == "general"
+    # A mouth corner whose wall is a step: the notch and the step would share a disk.
+    S = Polygon([(0, 0), (4.8, 0), (4.8, 0.3), (5, 0.3), (5, 1), (5.5, 1), (5.5, 0.3), (12, 0.3), (12, 10),
+                 (0, 10)])
+    assert vt.tighten(S, r)._cache["_path"] == "general"
+
+
+@st.composite
+def featured_blocks(draw):
+    """A 30 × 12 block (r = 1) whose lower wall has 1–3 features 7–9 apart — slots and tabs 0.2–1.9 wide
+    and 0.1–3 deep, slightly slanted, or bevels — and whose corners may be chamfered (legs 0.05–0.5);
+    turned by a random angle."""
+    pts, x = [(0.0, 0.0)], 0.0
+    for _ in range(draw(st.integers(1, 3))):
+        x += draw(st.floats(7.0, 9.0))
+        kind = draw(st.sampled_from(["slot", "tab", "bevel"]))
+        if kind == "bevel":
+            c = draw(st.floats(0.05, 0.5))
+            pts += [(x, 0.0), (x + c, -c), (x + 3.0, -c), (x + 3.0 + c, 0.0)]
+            x += 3.0 + c
+            continue
+        w, h = draw(st.floats(0.2, 1.9)), draw(st.floats(0.1, 3.0)) * (1 if kind == "slot" else -1)
+        lean = draw(st.floats(-0.1, 0.1))
+        pts += [(x, 0.0), (x + lean * h, h), (x + w + lean * h, h), (x + w, 0.0)]
+        x += w
+    x += draw(st.floats(7.0, 9.0))
+    c1, c2 = draw(st.floats(0.05, 0.5)), draw(st.floats(0.05, 0.5))
+    pts += [(x, 0.0), (x, 12.0 - c1), (x - c1, 12.0), (c2, 12.0), (0.0, 12.0 - c2)]
+    S = Polygon(pts)
+    return shapely.affinity.rotate(S, draw(st.floats(0, 360)), origin=(0, 0)) if S.is_valid else None
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(S=featured_blocks(), init=st.sampled_from(["core", "input", "mason"]))
+def test_fast_results_with_runs_are_the_general_engines(S, init):
+    if S is None:
+        return
+    T = vt.tighten(S, 1.0, init=init)
+    if T._cache["_path"] != "fast":
+        return
+    assert T.verify() == []
+    assert_same(T, general(S, 1.0, init), rel=1e-10)
+    _exact(S, 1.0, T)
