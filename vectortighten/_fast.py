@@ -499,20 +499,28 @@ def _covered(D: _Rings, pieces) -> bool:
     if not pieces:
         return True
     r = D.r
-    edges = shapely.linestrings(np.stack([D.v, D.v[D.next]], axis=1))
-    tree = shapely.STRtree(edges)
+    ea, eb = D.v, D.v[D.next]
+    tree = None
     for kind, geom, keep0, keep1, own in pieces:
         if kind == "seg":
             p, q = geom
             w = q - p
-            probe = shapely.linestrings([p, q]) if (w != 0).any() else shapely.points(p)
         else:
             o, s0, sw = geom
             if sw == 0:
                 continue
-            probe = shapely.points(o)
-        reach = r if kind == "seg" else 2.0 * r
-        e = tree.query(probe, predicate="dwithin", distance=reach * (1 + 1e-9))
+            p = q = o
+        # The edges that can reach the piece: within r of a segment, 2r of an arc's centre (every pair on a
+        # small shape, an R-tree on a large one).
+        reach = (r if kind == "seg" else 2.0 * r) * (1 + 1e-9)
+        if len(ea) <= _ALL_PIECES:
+            m = len(ea)
+            e = np.flatnonzero(_segment_distances(np.tile(p, (m, 1)), np.tile(q, (m, 1)), ea, eb) <= reach)
+        else:
+            if tree is None:
+                tree = shapely.STRtree(shapely.linestrings(np.stack([ea, eb], axis=1)))
+            probe = shapely.points(p) if (p == q).all() else shapely.linestrings([p, q])
+            e = tree.query(probe, predicate="dwithin", distance=reach)
         e = e[~np.isin(e, own)]
         if not len(e):
             return False
@@ -896,13 +904,19 @@ def _bridges_clear(D: _Rings) -> bool:
         rows.append(np.column_stack([centres, np.full(len(centres), r), start, sweep]))
         kinds.append(np.ones(len(centres), bool))
     pieces, arc = np.concatenate(rows), np.concatenate(kinds)
-    # Candidates from an R-tree: the segments themselves, each arc by its circle's box.
-    box = shapely.box(pieces[:, 0] - r, pieces[:, 1] - r, pieces[:, 0] + r, pieces[:, 1] + r)
-    point = ~arc & (pieces[:, 0] == pieces[:, 2]) & (pieces[:, 1] == pieces[:, 3])   # a trimmed offset
-    geoms = np.where(arc, box, np.where(point, shapely.points(pieces[:, :2]),
-                                        shapely.linestrings(pieces[:, :4].reshape(-1, 2, 2))))
-    bi, m = shapely.STRtree(geoms).query(shapely.linestrings(np.stack([P, Q], axis=1)), predicate="dwithin",
-                                         distance=limit + 1e-9 * r)
+    # Candidates: the segments themselves, each arc by its circle's box (from all pairs of boxes on a small
+    # shape, else from an R-tree).
+    if len(P) * len(pieces) <= _ALL_PAIRS:
+        lo = np.where(arc[:, None], pieces[:, :2] - r, pieces[:, :2])
+        hi = np.where(arc[:, None], pieces[:, :2] + r, pieces[:, 2:4])
+        bi, m = _boxes_within(P, Q, lo, hi, limit + 1e-9 * r)
+    else:
+        box = shapely.box(pieces[:, 0] - r, pieces[:, 1] - r, pieces[:, 0] + r, pieces[:, 1] + r)
+        point = ~arc & (pieces[:, 0] == pieces[:, 2]) & (pieces[:, 1] == pieces[:, 3])   # a trimmed offset
+        geoms = np.where(arc, box, np.where(point, shapely.points(pieces[:, :2]),
+                                            shapely.linestrings(pieces[:, :4].reshape(-1, 2, 2))))
+        bi, m = shapely.STRtree(geoms).query(shapely.linestrings(np.stack([P, Q], axis=1)),
+                                             predicate="dwithin", distance=limit + 1e-9 * r)
     if not len(bi):
         return True
     seg = np.column_stack([P[bi], Q[bi], np.zeros(len(bi))])
@@ -1753,9 +1767,13 @@ def _reaches_edges(D: _Rings, S, side: int) -> bool:
     if not len(centres):
         return True
     k = np.flatnonzero(D.side != side)                 # the vertex each arc is about
-    boxes = shapely.box(centres[:, 0] - r, centres[:, 1] - r, centres[:, 0] + r, centres[:, 1] + r)
-    edges = shapely.linestrings(np.stack([D.v, D.v[D.next]], axis=1))
-    ai, ej = shapely.STRtree(edges).query(boxes, predicate="dwithin", distance=limit)
+    # The edges near each arc's box (every pair whose boxes come within the limit on a small shape).
+    if len(centres) * len(D.v) <= _ALL_PAIRS:
+        ai, ej = _boxes_within(centres - r, centres + r, D.v, D.v[D.next], limit)
+    else:
+        boxes = shapely.box(centres[:, 0] - r, centres[:, 1] - r, centres[:, 0] + r, centres[:, 1] + r)
+        edges = shapely.linestrings(np.stack([D.v, D.v[D.next]], axis=1))
+        ai, ej = shapely.STRtree(edges).query(boxes, predicate="dwithin", distance=limit)
     # An arc's own two edges end at its centre: r from all of it.
     other = (ej != k[ai]) & (ej != D.prev[k[ai]])
     ai, ej = ai[other], ej[other]
