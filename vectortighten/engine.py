@@ -770,9 +770,19 @@ def _obstacle_arrays(ctx: _Context) -> tuple[np.ndarray, np.ndarray]:
     """``ctx.opieces`` as arrays for `piece_distances` (whether an arc; (n, 5) parameters), built once."""
     got = getattr(ctx, "_opiece_arrays", None)
     if got is None:
-        arc = np.array([p[1][0] == "arc" for p in ctx.opieces], dtype=bool)
-        params = np.array([(*g[0], *g[1], 0.0) if k == "seg" else (*g[0], g[1], g[2], g[3])
-                           for k, g in (p[1] for p in ctx.opieces)], dtype=float).reshape(-1, 5)
+        # In the order of ``ctx.opieces``: each side's straight pieces, then its arcs (a side of radius 0
+        # has none).
+        arcs, rows = [], []
+        for X in (ctx.xE, ctx.xG):
+            if X.r == 0:
+                continue
+            seg = np.asarray(X.seg, dtype=float).reshape(-1, 2, 2)
+            rows.append(np.column_stack([seg[:, 0], seg[:, 1], np.zeros(len(seg))]))
+            centre = np.asarray(X.arc_center, dtype=float).reshape(-1, 2)
+            rows.append(np.column_stack([centre, np.full(len(centre), float(X.r)), X.arc_start, X.arc_sweep]))
+            arcs += [np.zeros(len(seg), bool), np.ones(len(centre), bool)]
+        arc = np.concatenate(arcs) if arcs else np.zeros(0, bool)
+        params = np.concatenate(rows) if rows else np.zeros((0, 5))
         got = ctx._opiece_arrays = (arc, params)
     return got
 
@@ -1251,52 +1261,103 @@ def _exact_depths(ctx: _Context, L: _DiskLoop, limit: float = 0.0) -> tuple[floa
 _SKIP_ON_EDGES = True
 
 
-def _exact_depths_many(ctx: _Context, loops: list[_DiskLoop], limit: float = 0.0) -> list[tuple[float, float]]:
-    """`_exact_depths` of every loop, with one query of the obstacle index for all of them."""
+def _depth_pieces(ctx: _Context, loops: list[_DiskLoop], step: float):
+    """The pieces `_exact_depths_many` measures, as arrays (loop by loop, arc i then the tangent leaving
+    disk i, as `_DiskLoop.pieces`; tangents of length 0 left out): whether each is an arc, its
+    `_pieces` row (a segment's ends; an arc's centre, radius, start and sweep), its loop, the offset its
+    disk may sit off its exact corner, a middle point, and the chords that stand for it in the index
+    query (an arc's every ``step`` radians at most) with the piece each belongs to."""
     r = ctx.r
-    depth = [{1: 0.0, -1: 0.0} for _ in loops]
-    step = math.pi / 64
-    sag = r * (1.0 - math.cos(0.5 * step))
-    pieces, loop_of, allow = [], [], []
-    mids, cp, cq, owner = [], [], [], []
+    rows, arcs, loop_of, allow = [], [], [], []
     for k, L in enumerate(loops):
-        mine = [(kind, g) for kind, g, length in L.pieces() if length > 0 or kind == "arc"]
-        if not mine:
+        if not L.n:
             continue
         # A loop's disk may sit off the exact corner it stands for by that corner's own rounding (the
         # fast path solves corners from S's vertices; an acute corner's position is ill-conditioned):
         # that offset, up to CENTRE_ROUNDING_R·r or a thousand times the coordinates' precision, moves
         # the disk's pieces as much and is not an entry.
         off = np.zeros(L.n)
-        if ctx.ckd is not None and L.n:
+        if ctx.ckd is not None:
             d, _ = ctx.ckd.query(L.c)
             off = np.where(d <= max(CENTRE_ROUNDING_R * r, 1e3 * ctx.precision), d, 0.0)
-        for d_i, (kind, g, length) in enumerate(L.pieces()):
-            if not (length > 0 or kind == "arc"):
-                continue
-            disk = d_i // 2
-            allow.append(off[disk] if kind == "arc" else max(off[disk], off[(disk + 1) % L.n]))
-        for kind, g in mine:
-            n = len(pieces)
-            if kind == "seg":
-                p, q = g
-                mids.append(0.5 * (p + q))
-                cp.append(p[None]), cq.append(q[None]), owner.append(n)
-            else:
-                c, rr, a0, sw = g
-                m = max(1, int(math.ceil(abs(sw) / step)))
-                th = a0 + sw * np.linspace(0.0, 1.0, m + 1)
-                pts = np.column_stack([c[0] + rr * np.cos(th), c[1] + rr * np.sin(th)])
-                mids.append(pts[m // 2] if m > 1 else 0.5 * (pts[0] + pts[-1]))
-                cp.append(pts[:-1]), cq.append(pts[1:])
-                owner += [n] * m
-            pieces.append((kind, g))
-            loop_of.append(k)
-    if not pieces:
+        rad = np.broadcast_to(np.asarray(L.r, dtype=float), (L.n,))
+        if L.n == 1:
+            a0, P = np.zeros(1), None
+        else:
+            P, Q = L.tangent_points()
+            a0 = L.arc_start()
+        row = np.zeros((2 * L.n, 5))
+        row[0::2] = np.column_stack([L.c, rad, a0, L.sweep])
+        is_arc = np.zeros(2 * L.n, dtype=bool)
+        is_arc[0::2] = True
+        keep = is_arc.copy()
+        if P is not None:
+            row[1::2, 0:2], row[1::2, 2:4] = P, Q
+            keep[1::2] = L.length > 0
+        here = np.empty(2 * L.n)
+        here[0::2] = off
+        here[1::2] = np.maximum(off, np.roll(off, -1))
+        rows.append(row[keep]), arcs.append(is_arc[keep]), allow.append(here[keep])
+        loop_of.append(np.full(int(keep.sum()), k, dtype=np.int64))
+    if not rows:
+        z = np.zeros((0, 2))
+        return (np.zeros(0, bool), np.zeros((0, 5)), np.zeros(0, np.int64), np.zeros(0), z, z, z,
+                np.zeros(0, np.int64))
+    params, is_arc = np.concatenate(rows), np.concatenate(arcs)
+    loop_of, allow = np.concatenate(loop_of), np.concatenate(allow)
+    # Chords: a segment is its own; an arc of sweep sw, m = ⌈|sw|/step⌉ chords between the points at
+    # start + sw·j/m (j = 0 … m, as `np.linspace`), its middle the point at j = m // 2 (m > 1) or the
+    # middle of its one chord.
+    m = np.where(is_arc, np.maximum(1, np.ceil(np.abs(params[:, 4]) / step)), 1).astype(np.int64)
+    owner = np.repeat(np.arange(len(params)), m)
+    start = np.cumsum(m) - m
+    j = np.arange(len(owner)) - start[owner]
+    arc_o = is_arc[owner]
+    mo = m[owner]
+
+    def at(jj):
+        t = jj * (1.0 / mo)
+        t = np.where(jj == mo, 1.0, t)
+        th = params[owner, 3] + params[owner, 4] * t
+        c, rr = params[owner, 0:2], params[owner, 2]
+        return np.column_stack([c[:, 0] + rr * np.cos(th), c[:, 1] + rr * np.sin(th)])
+
+    cp = np.where(arc_o[:, None], at(j), params[owner, 0:2])
+    cq = np.where(arc_o[:, None], at(j + 1), params[owner, 2:4])
+    mids = 0.5 * (params[:, 0:2] + params[:, 2:4])
+    k = np.flatnonzero(is_arc)
+    first = start[k]
+    mids[k] = np.where((m[k] > 1)[:, None], cp[first + m[k] // 2], 0.5 * (cp[first] + cq[first]))
+    return is_arc, params, loop_of, allow, mids, cp, cq, owner
+
+
+class _PieceRows:
+    """`_pieces` rows read back as ``(kind, geometry)`` pieces, one at a time (for the closed forms)."""
+
+    def __init__(self, is_arc: np.ndarray, params: np.ndarray):
+        self.is_arc, self.params = is_arc, params
+
+    def __len__(self) -> int:
+        return len(self.params)
+
+    def __getitem__(self, i: int):
+        x = self.params[i]
+        if self.is_arc[i]:
+            return "arc", (x[0:2], float(x[2]), float(x[3]), float(x[4]))
+        return "seg", (x[0:2], x[2:4])
+
+
+def _exact_depths_many(ctx: _Context, loops: list[_DiskLoop], limit: float = 0.0) -> list[tuple[float, float]]:
+    """`_exact_depths` of every loop, with one query of the obstacle index for all of them."""
+    r = ctx.r
+    depth = [{1: 0.0, -1: 0.0} for _ in loops]
+    step = math.pi / 64
+    sag = r * (1.0 - math.cos(0.5 * step))
+    is_arc, params, loop_of, allow, mids, cp, cq, owner = _depth_pieces(ctx, loops, step)
+    pieces = _PieceRows(is_arc, params)
+    if not len(pieces):
         return [(0.0, 0.0) for _ in loops]
-    loop_of = np.array(loop_of, dtype=np.int64)
-    allow = np.array(allow)
-    where = ctx.in_regions(np.array(mids))
+    where = ctx.in_regions(mids)
     for s in (1, -1):
         for k in np.unique(loop_of[where == s]).tolist():
             depth[k][s] = ctx.radius_of(s)
@@ -1304,25 +1365,23 @@ def _exact_depths_many(ctx: _Context, loops: list[_DiskLoop], limit: float = 0.0
         # A radius 0: how far a straight piece enters that side's region, by its boundary chain
         # (`_zero_radius`); a piece lying inside it (its middle in the region) enters it wholly.
         for k in range(len(loops)):
-            segs = [g for (kind, g), lk in zip(pieces, loop_of.tolist()) if kind == "seg" and lk == k]
-            if segs:
-                P0, Q0 = (np.array([g[m] for g in segs]) for m in (0, 1))
+            segs = ~is_arc & (loop_of == k)
+            if segs.any():
+                P0, Q0 = params[segs, 0:2], params[segs, 2:4]
                 deepest = max((d for _, _, d in zero_entries(ctx, P0, Q0, ctx.zero)), default=0.0)
                 inside = bool((where[loop_of == k] == ctx.zero).any())
                 depth[k][ctx.zero] = max(depth[k][ctx.zero], r if inside else 0.0,
                                          deepest if deepest > limit else 0.0)
     if len(ctx.oedges) == 0:
         return [(dk[1], dk[-1]) for dk in depth]
-    owner = np.array(owner, dtype=np.int64)
-    cp, cq = np.concatenate(cp), np.concatenate(cq)
     if _SKIP_ON_EDGES and not ctx.zero and limit > 0:
         # A straight piece lying on an edge of S (both its ends within limit/2 of that one edge) enters
         # neither region deeper than limit/2: every point of ∂S is at distance r or more from S↓r and
         # from (S^c)↓r, and the distance to a segment is convex along another. Such pieces (most of a
         # fast-path loop's) need no query.
-        seg_rows = np.flatnonzero([k == "seg" for k, _ in pieces])
+        seg_rows = np.flatnonzero(~is_arc)
         if len(seg_rows):
-            ends = np.concatenate([[pieces[i][1][0] for i in seg_rows], [pieces[i][1][1] for i in seg_rows]])
+            ends = np.concatenate([params[seg_rows, 0:2], params[seg_rows, 2:4]])
             edge, dist = ctx._s_tree.query_nearest(shapely.points(ends), return_distance=True, all_matches=False)
             near = np.zeros(len(ends), dtype=np.int64)
             near[edge[0]] = edge[1]
@@ -1347,9 +1406,6 @@ def _exact_depths_many(ctx: _Context, loops: list[_DiskLoop], limit: float = 0.0
         # Nearly every pair is a loop piece resting on an exact piece (distance r, depth 0) or farther:
         # the vectorised distances set aside those whose depth is clearly at most ``limit``; the others
         # are decided by the closed form, one by one.
-        is_arc = np.array([k == "arc" for k, _ in pieces], dtype=bool)
-        params = np.array([(*g[0], *g[1], 0.0) if k == "seg" else (*g[0], g[1], g[2], g[3])
-                           for k, g in pieces], dtype=float).reshape(-1, 5)
         o_arc, o_params = _obstacle_arrays(ctx)
         d = piece_distances(is_arc[li], params[li], o_arc[pj], o_params[pj])
         size = 1.0 + r + max(float(np.abs(params[:, :2]).max()), float(np.abs(o_params[:, :2]).max()))
