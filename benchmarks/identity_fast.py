@@ -35,6 +35,8 @@ import shapely
 from shapely import affinity
 from shapely.geometry import Polygon
 
+from _trees import use_tree
+
 HERE = Path(__file__).resolve().parent
 
 
@@ -118,9 +120,7 @@ def _perturbed(vt, T, S, r):
 
 def snapshot(src: str, out: str, quick: bool) -> None:
     todo = list(cases(quick))                   # inputs from this tree, before the engine is imported
-    sys.path.insert(0, str(Path(src).resolve()))
-    for m in [m for m in sys.modules if m == "vectortighten" or m.startswith("vectortighten.")]:
-        del sys.modules[m]
+    use_tree(src)
     import vectortighten as vt
     from vectortighten._guard import containment_problems
 

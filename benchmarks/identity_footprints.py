@@ -36,6 +36,8 @@ from pathlib import Path
 import numpy as np
 import shapely
 
+from _trees import use_tree
+
 HERE = Path(__file__).resolve().parent
 
 
@@ -71,9 +73,7 @@ def cases(n_fp: int, n_rand: int):
 
 def snapshot(src: str, out: str, n_fp: int, n_rand: int) -> None:
     todo = list(cases(n_fp, n_rand))            # inputs from this tree, before the engine is imported
-    sys.path.insert(0, str(Path(src).resolve()))
-    for m in [m for m in sys.modules if m == "vectortighten" or m.startswith("vectortighten.")]:
-        del sys.modules[m]
+    use_tree(src)
     import vectortighten as vt
     from vectortighten.curves import Arc
 

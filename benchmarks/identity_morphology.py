@@ -40,6 +40,8 @@ from pathlib import Path
 import numpy as np
 import shapely
 
+from _trees import use_tree
+
 HERE = Path(__file__).resolve().parent
 OPS = ("core", "fillet", "shrink", "grow")
 
@@ -94,9 +96,7 @@ def snapshot(src: str, out: str) -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         todo = cases()                        # inputs from this tree, before the engine is imported
-    sys.path.insert(0, str(Path(src).resolve()))
-    for m in [m for m in sys.modules if m == "vectortighten" or m.startswith("vectortighten.")]:
-        del sys.modules[m]
+    use_tree(src)
     import vectortighten as vt
 
     print("vectortighten from", vt.__file__, file=sys.stderr)

@@ -27,6 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
+from _trees import use_tree
+
 HERE = Path(__file__).resolve().parent
 
 
@@ -70,9 +72,7 @@ def main(argv=None) -> None:
         warnings.simplefilter("ignore")
         todo = cases()
     if args.src:
-        sys.path.insert(0, str(Path(args.src).resolve()))
-        for m in [m for m in sys.modules if m == "vectortighten" or m.startswith("vectortighten.")]:
-            del sys.modules[m]
+        use_tree(args.src)
     import vectortighten as vt
 
     rows, ratios = [], {"fast": [], "general": [], "convex": []}

@@ -1,12 +1,16 @@
 """The general engine's answer on a shape, and whether two tightenings are the same: for tests that check
-a shortcut of the engine (the fast path's steps, far-apart parts tightened alone) against it."""
+a shortcut of the engine (the fast path's steps and notches, far-apart parts tightened alone) against it;
+the oracle's verdict, and the disks a result was built from."""
 
 import warnings
 
+import numpy as np
 import pytest
 
 import vectortighten as vt
 from vectortighten import engine
+
+from .oracle import judge
 
 
 def general(S, r, init="core"):
@@ -23,3 +27,19 @@ def assert_same(T, G, rel=1e-12):
     assert T.perimeter == pytest.approx(G.perimeter, rel=rel)
     assert T.area == pytest.approx(G.area, rel=rel)
     assert T.geometry.symmetric_difference(G.geometry).area <= 1e-9 * G.area
+
+
+def assert_exact(S, r, T):
+    """The independent oracle (`oracle.judge`) finds no entry into the core or the anticore deeper than
+    1e-9·r, nothing of the core missing and nothing of the anticore covered."""
+    J = judge(S, r, T.loops, T.geometry)
+    assert J.core_penetration <= 1e-9 * r and J.anticore_penetration <= 1e-9 * r
+    assert J.core_missing == 0 and J.anticore_covered == 0
+
+
+def disks(T):
+    """Every disk of a result's loops, in world coordinates: centres and sides."""
+    _, disk_loops, _ = T._cache["_exact"]
+    frame = T._cache["_frame"]
+    return (np.concatenate([frame.scale * L.c + (frame.ox, frame.oy) for L in disk_loops]),
+            np.concatenate([L.side for L in disk_loops]))

@@ -15,22 +15,7 @@ from shapely.geometry import Polygon
 
 import vectortighten as vt
 
-from .engines import assert_same, general
-from .oracle import judge
-
-
-def _exact(S, r, T):
-    J = judge(S, r, T.loops, T.geometry)
-    assert J.core_penetration <= 1e-9 * r and J.anticore_penetration <= 1e-9 * r
-    assert J.core_missing == 0 and J.anticore_covered == 0
-
-
-def _disks(T):
-    """Every disk of the loops (world coordinates) and its side."""
-    _, disk_loops, _ = T._cache["_exact"]
-    frame = T._cache["_frame"]
-    return (np.concatenate([frame.scale * L.c + (frame.ox, frame.oy) for L in disk_loops]),
-            np.concatenate([L.side for L in disk_loops]))
+from .engines import assert_exact, assert_same, disks, general
 
 
 def _has(c, x, y):
@@ -41,7 +26,7 @@ def _fast_and_right(S, r, init="core"):
     T = vt.tighten(S, r, init=init)
     assert T._cache["_path"] == "fast" and T.verify() == []
     assert_same(T, general(S, r, init), rel=1e-10)
-    _exact(S, r, T)
+    assert_exact(S, r, T)
     return T
 
 
@@ -56,7 +41,7 @@ def test_a_bevelled_corner_is_one_disk(init):
     r, c = 1.0, 0.3
     S = Polygon([(0, 0), (10 - c, 0), (10, c), (10, 5), (5, 5), (5, 10), (0, 10)])
     T = _fast_and_right(S, r, init)
-    centres, _ = _disks(T)
+    centres, _ = disks(T)
     assert len(centres) == 6                        # one disk a corner: the bevel's two merged
     assert _has(centres, 10 - r, r)
 
@@ -69,7 +54,7 @@ def test_a_round_corner_of_four_chords_is_one_disk():
     arc = [(9.5 + R * math.cos(a), 4.5 + R * math.sin(a)) for a in np.linspace(0, math.pi / 2, 5)]
     S = Polygon([(0, 0), (10, 0)] + arc + [(5, 5), (5, 10), (0, 10)])
     T = _fast_and_right(S, r)
-    centres, _ = _disks(T)
+    centres, _ = disks(T)
     assert len(centres) == 6
     assert _has(centres, 10 - r, 5 - r)
     (L,) = T.loops
@@ -83,7 +68,7 @@ def test_a_chamfered_inner_corner_is_one_disk_outside():
     r, c = 1.0, 0.4
     S = Polygon([(0, 0), (10, 0), (10, 5), (5 + c, 5), (5, 5 + c), (5, 10), (0, 10)])
     T = _fast_and_right(S, r)
-    centres, sides = _disks(T)
+    centres, sides = disks(T)
     assert len(centres) == 6
     assert _has(centres, 5 + r, 5 + r) and sides[np.hypot(*(centres - (5 + r, 5 + r)).T).argmin()] == -1
 
@@ -101,7 +86,7 @@ def test_a_deep_slot_narrower_than_2r(w, h, init):
     # (5 + w + r, r).
     r = 1.0
     T = _fast_and_right(_slot(w, h), r, init)
-    centres, _ = _disks(T)
+    centres, _ = disks(T)
     assert len(centres) == 7                        # 4 block corners, 2 mouth corners, E
     assert _has(centres, 5 + w / 2, -math.sqrt(r * r - w * w / 4))
     assert _has(centres, 5 - r, r) and _has(centres, 5 + w + r, r)
@@ -113,7 +98,7 @@ def test_a_shallow_slot_slides_its_mouth_disks(w, h):
     # corner: tangent to y = 0 and through (5, h), centre (5 − sqrt(2rh − h²), r) (and mirrored).
     r = 1.0
     T = _fast_and_right(_slot(w, h), r)
-    centres, _ = _disks(T)
+    centres, _ = disks(T)
     a = math.sqrt(2 * r * h - h * h)
     assert _has(centres, 5 - a, r) and _has(centres, 5 + w + a, r)
     assert _has(centres, 5 + w / 2, -math.sqrt(r * r - w * w / 4))
@@ -124,7 +109,7 @@ def test_a_tab_narrower_than_2r(w, h):
     # A protrusion below the wall: E lies inside S, sqrt(r² − w²/4) above the mouth's middle.
     r = 1.0
     T = _fast_and_right(_slot(w, -h), r)
-    centres, sides = _disks(T)
+    centres, sides = disks(T)
     i = np.hypot(*(centres - (5 + w / 2, math.sqrt(r * r - w * w / 4))).T).argmin()
     assert _has(centres, 5 + w / 2, math.sqrt(r * r - w * w / 4)) and sides[i] == 1
 
@@ -175,4 +160,4 @@ def test_fast_results_with_runs_are_the_general_engines(S, init):
         return
     assert T.verify() == []
     assert_same(T, general(S, 1.0, init), rel=1e-10)
-    _exact(S, 1.0, T)
+    assert_exact(S, 1.0, T)

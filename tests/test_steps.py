@@ -16,20 +16,7 @@ from shapely.geometry import Polygon
 
 import vectortighten as vt
 
-from .engines import assert_same, general
-from .oracle import judge
-
-
-def _exact(S, r, T):
-    J = judge(S, r, T.loops, T.geometry)
-    assert J.core_penetration <= 1e-9 * r and J.anticore_penetration <= 1e-9 * r
-    assert J.core_missing == 0 and J.anticore_covered == 0
-
-
-def _centres(T):
-    _, disk_loops, _ = T._cache["_exact"]
-    frame = T._cache["_frame"]
-    return np.concatenate([frame.scale * L.c + (frame.ox, frame.oy) for L in disk_loops])
+from .engines import assert_exact, assert_same, disks, general
 
 
 @pytest.mark.parametrize("h", [0.3, 0.05, 1.2])
@@ -44,11 +31,11 @@ def test_a_right_angled_step_lower_than_r(h, init):
     T = vt.tighten(S, r, init=init)
     assert T._cache["_path"] == "fast" and T.verify() == []
     a = math.sqrt(2 * r * h - h * h) if h < r else r
-    c = _centres(T)
+    c = disks(T)[0]
     for x, y in ((-a, r), (a, h - r)):
         assert np.hypot(c[:, 0] - x, c[:, 1] - y).min() < 1e-12
     assert_same(T, general(S, r, init), rel=1e-10)
-    _exact(S, r, T)
+    assert_exact(S, r, T)
 
 
 def test_a_gentle_step_keeps_its_corner_disks():
@@ -60,12 +47,12 @@ def test_a_gentle_step_keeps_its_corner_disks():
     assert r * math.tan(math.pi / 12) < L < 2 * r * math.tan(math.pi / 12)
     T = vt.tighten(S, r)
     assert T._cache["_path"] == "fast" and T.verify() == []
-    c = _centres(T)
+    c = disks(T)[0]
     t = r * math.tan(math.pi / 12)
     for cx, cy in ((-t, r), (x + t, y - r)):
         assert np.hypot(c[:, 0] - cx, c[:, 1] - cy).min() < 1e-12
     assert_same(T, general(S, r), rel=1e-10)
-    _exact(S, r, T)
+    assert_exact(S, r, T)
 
 
 def test_a_step_beside_another_short_edge_goes_to_the_general_engine():
@@ -104,7 +91,7 @@ def test_bridged_results_are_the_general_engines(S, init):
     T = vt.tighten(S, 1.0, init=init)
     assert T._cache["_path"] == "fast" and T.verify() == []
     assert_same(T, general(S, 1.0, init), rel=1e-10)
-    _exact(S, 1.0, T)
+    assert_exact(S, 1.0, T)
 
 
 def test_a_slid_disk_at_a_grazing_angle_passes_the_final_check():
@@ -122,7 +109,7 @@ def test_a_slid_disk_at_a_grazing_angle_passes_the_final_check():
         T = vt.tighten(S, 0.6)
     assert T._cache["_path"] == "fast" and T.converged and T.verify() == []
     assert_same(T, general(S, 0.6), rel=1e-10)
-    _exact(S, 0.6, T)
+    assert_exact(S, 0.6, T)
 
 
 def test_two_steps_in_a_row_before_a_corner():
@@ -137,10 +124,10 @@ def test_two_steps_in_a_row_before_a_corner():
     assert T._cache["_path"] == "fast" and T.verify() == []
     x = b[0] - r                                    # the slid disk: r left of the wall x = b[0] ...
     y = a[1] + math.sqrt(r * r - (x - a[0]) ** 2)  # ... and r from the middle vertex
-    c = _centres(T)
+    c = disks(T)[0]
     assert np.hypot(c[:, 0] - x, c[:, 1] - y).min() < 1e-12
     assert_same(T, general(S, r), rel=1e-10)
-    _exact(S, r, T)
+    assert_exact(S, r, T)
 
 
 def test_a_jog_whose_middle_corner_the_loop_passes_by():
@@ -155,7 +142,7 @@ def test_a_jog_whose_middle_corner_the_loop_passes_by():
     T = vt.tighten(S, r)
     assert T._cache["_path"] == "fast" and T.verify() == []
     a, b = (-math.sqrt(0.6 - 0.09), 1.0), (-0.6, 1.1)
-    c = _centres(T)
+    c = disks(T)[0]
     assert len(c) == 5                              # the two slid disks and the block's three corners
     for x, y in (a, b):
         assert np.hypot(c[:, 0] - x, c[:, 1] - y).min() < 1e-12
@@ -165,7 +152,7 @@ def test_a_jog_whose_middle_corner_the_loop_passes_by():
     for init in ("core", "input", "mason"):
         T = vt.tighten(S, r, init=init)
         assert_same(T, general(S, r, init), rel=1e-10)
-        _exact(S, r, T)
+        assert_exact(S, r, T)
 
 
 def test_a_neck_narrower_than_2r_parts_the_core():
