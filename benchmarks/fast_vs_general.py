@@ -13,10 +13,14 @@ a mismatch unless
 
 Sets: ``footprints`` (`bench_geo.footprints`, seeds given), ``stairs`` (blocks whose walls climb and
 descend in staircases of random treads and risers, right-angled or slanted: runs of steps, jogs, corners
-between two steps).
+between two steps), ``features`` (blocks whose corners are bevelled, rounded by a few chords or left
+sharp, and whose walls carry notches and tabs, square or tapered, of widths and depths from 0.1 to 3,
+slight bends, and steps out and back: the shapes of cut parts and plans, drawn without looking at which
+the fast path takes).
 
 Run:  python benchmarks/fast_vs_general.py footprints --n 300 --seeds 0 1 --radii 0.5 1 2
       python benchmarks/fast_vs_general.py stairs --n 60 --radii 0.3 0.6 1
+      python benchmarks/fast_vs_general.py features --n 200 --seeds 0 1 --radii 0.3 0.7 1.5
 (``--root`` imports ``vectortighten`` from another source tree.)
 """
 
@@ -73,9 +77,80 @@ def stairs(n: int, seed: int = 0):
         yield shapely.affinity.rotate(Polygon(max(parts, key=lambda q: q.area).exterior), rng.uniform(0, 180))
 
 
+def wall(rng: np.random.Generator, length: float) -> np.ndarray:
+    """A wall's profile from (0, 0) to (length, 0), y outwards: features 2 or more from either end, each
+    a notch or a tab (square or tapered), a slight bend, or a step out and back some way on."""
+    pts, x = [(0.0, 0.0)], 2.0
+    while True:
+        kind = rng.choice(["slot", "taper", "bend", "step", "none"], p=[0.3, 0.15, 0.2, 0.15, 0.2])
+        width = rng.uniform(0.1, 3.0)
+        if x + width + 2.0 > length:
+            break
+        depth = rng.uniform(0.1, 3.0) * rng.choice([-1.0, 1.0])
+        if kind == "slot":
+            pts += [(x, 0.0), (x, depth), (x + width, depth), (x + width, 0.0)]
+        elif kind == "taper":
+            inset = rng.uniform(0.0, 0.45) * width
+            pts += [(x, 0.0), (x + inset, depth), (x + width - inset, depth), (x + width, 0.0)]
+        elif kind == "bend":
+            pts.append((x + 0.5 * width, rng.uniform(-0.2, 0.2)))
+        elif kind == "step":
+            rise = rng.uniform(0.05, 1.2) * rng.choice([-1.0, 1.0])
+            pts += [(x, 0.0), (x + rng.uniform(-0.2, 0.2), rise), (x + width, rise),
+                    (x + width + rng.uniform(-0.2, 0.2), 0.0)]
+        x += width + rng.uniform(0.3, 3.0)
+    pts.append((length, 0.0))
+    return np.array(pts)
+
+
+def corner(rng: np.random.Generator, prev: np.ndarray, at: np.ndarray, nxt: np.ndarray) -> list:
+    """A corner left sharp, bevelled (legs 0.05–1.5) or rounded by 2–5 chords (radius 0.2–1.5)."""
+    kind = rng.choice(["sharp", "bevel", "round"])
+    u = (at - prev) / np.hypot(*(at - prev))
+    v = (nxt - at) / np.hypot(*(nxt - at))
+    if kind == "sharp":
+        return [at]
+    if kind == "bevel":
+        return [at - rng.uniform(0.05, 1.5) * u, at + rng.uniform(0.05, 1.5) * v]
+    rho, k = rng.uniform(0.2, 1.5), int(rng.integers(2, 6))
+    turn = math.atan2(u[0] * v[1] - u[1] * v[0], u @ v)
+    start = at - rho * math.tan(abs(turn) / 2) * u            # where the arc leaves the incoming edge
+    centre = start + rho * math.copysign(1.0, turn) * np.array([-u[1], u[0]])
+    back = math.atan2(*(start - centre)[::-1])
+    return [centre + rho * np.array([math.cos(back + turn * j / k), math.sin(back + turn * j / k)])
+            for j in range(k + 1)]
+
+
+def featured(n: int, seed: int = 0):
+    """Blocks 10–30 on a side with featured walls and corners (`wall`, `corner`), turned by a random
+    angle; the largest polygon of their repair where features cross."""
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        w, h = rng.uniform(10, 30, 2)
+        box = [(0.0, 0.0), (w, 0.0), (w, h), (0.0, h)]
+        ring = []
+        for i in range(4):
+            (x0, y0), (x1, y1) = box[i], box[(i + 1) % 4]
+            L = math.hypot(x1 - x0, y1 - y0)
+            ux, uy = (x1 - x0) / L, (y1 - y0) / L
+            p = wall(rng, L)
+            # Outwards is to the right of a counter-clockwise wall.
+            ring.append(np.column_stack([x0 + p[:, 0] * ux + p[:, 1] * uy, y0 + p[:, 0] * uy - p[:, 1] * ux])[:-1])
+        pts = np.concatenate(ring)
+        out, m = [], len(pts)
+        for i in range(m):
+            is_box_corner = any(np.allclose(pts[i], c) for c in box)
+            out += corner(rng, pts[i - 1], pts[i], pts[(i + 1) % m]) if is_box_corner else [pts[i]]
+        g = shapely.make_valid(Polygon(np.array(out)))
+        parts = [q for q in shapely.get_parts(g) if q.geom_type == "Polygon"]
+        if not parts:
+            continue
+        yield shapely.affinity.rotate(Polygon(max(parts, key=lambda q: q.area).exterior), rng.uniform(0, 180))
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("set", choices=["footprints", "stairs"])
+    ap.add_argument("set", choices=["footprints", "stairs", "features"])
     ap.add_argument("--n", type=int, default=300)
     ap.add_argument("--seeds", type=int, nargs="+", default=[0])
     ap.add_argument("--radii", type=float, nargs="+", default=[1.0])
@@ -92,7 +167,9 @@ def main() -> None:
     warnings.simplefilter("ignore")
     paths, bad, t0 = collections.Counter(), [], time.process_time()
     for seed in args.seeds:
-        shapes = bench_geo.footprints(args.n, seed=seed) if args.set == "footprints" else stairs(args.n, seed)
+        make = {"footprints": lambda: bench_geo.footprints(args.n, seed=seed), "stairs": lambda: stairs(args.n, seed),
+                "features": lambda: featured(args.n, seed)}
+        shapes = make[args.set]()
         for k, S in enumerate(shapes):
             for r in args.radii:
                 for init in args.inits:
