@@ -25,6 +25,10 @@ _LONG_HALF_R = 1.0
 #: (a small polygon's loop against its offsets), and the same pairs come out.
 _ALL_PAIRS = 1 << 12
 
+#: Below this many (segment, edge) pairs, the pairs whose bounding boxes overlap are found by one
+#: broadcast comparison rather than by walking trees (the same pairs come out, and more, all measured).
+_BOX_PAIRS = 1 << 18
+
 
 def _all_pairs(m: int, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Every pair ``(i, j)``, ``i < m``, ``j < n``, sorted."""
@@ -92,14 +96,38 @@ class EdgeIndex:
     """
 
     def __init__(self, a: np.ndarray, b: np.ndarray, r: float):
-        self.a, self.b = a, b
+        self.a, self.b, self.r = a, b, r
+        self._boxes = None
+        self._trees = None
+
+    def _build(self):
+        """The k-d trees of the length classes and the R-tree of the long edges, built on first use (a
+        small outline's queries may all go by `_all_pairs` or `_box_pairs`)."""
+        a, b = self.a, self.b
         half = 0.5 * np.hypot(*(b - a).T) if len(a) else np.zeros(0)
-        short = half <= _LONG_HALF_R * r
-        self.classes = [(ids, float(half[ids].max()), _tree(0.5 * (a[ids] + b[ids])))
-                        for ids in _length_classes(half, np.flatnonzero(short))]
-        self.long = np.flatnonzero(~short)
-        self.rtree = shapely.STRtree(shapely.linestrings(np.stack([a[self.long], b[self.long]], axis=1))) \
-            if len(self.long) else None
+        short = half <= _LONG_HALF_R * self.r
+        classes = [(ids, float(half[ids].max()), _tree(0.5 * (a[ids] + b[ids])))
+                   for ids in _length_classes(half, np.flatnonzero(short))]
+        long_ = np.flatnonzero(~short)
+        rtree = shapely.STRtree(shapely.linestrings(np.stack([a[long_], b[long_]], axis=1))) \
+            if len(long_) else None
+        self._trees = (classes, long_, rtree)
+        return self._trees
+
+    @property
+    def classes(self) -> list:
+        """``(edge ids, largest half-length, k-d tree of their middles)`` per length class."""
+        return (self._trees or self._build())[0]
+
+    @property
+    def long(self) -> np.ndarray:
+        """The edges searched with the R-tree."""
+        return (self._trees or self._build())[1]
+
+    @property
+    def rtree(self):
+        """The R-tree of the long edges (None if there are none)."""
+        return (self._trees or self._build())[2]
 
     def __len__(self) -> int:
         return len(self.a)
@@ -109,6 +137,10 @@ class EdgeIndex:
 
         Sorted by point, then by distance.
         """
+        if 0 < len(x) * len(self) <= _ALL_PAIRS:
+            return self._measured(x, *_all_pairs(len(x), len(self)), dist)
+        if 0 < len(x) * len(self) <= _BOX_PAIRS:
+            return self._measured(x, *self._box_pairs(x, x, dist), dist)
         P, E = [], []
         if len(x) and self.classes:
             tree = _tree(x)
@@ -122,7 +154,10 @@ class EdgeIndex:
             E.append(self.long[ei])
         if not P:
             return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0)
-        pi, ei = np.concatenate(P), np.concatenate(E)
+        return self._measured(x, np.concatenate(P), np.concatenate(E), dist)
+
+    def _measured(self, x: np.ndarray, pi: np.ndarray, ei: np.ndarray, dist: float):
+        """Of candidate pairs ``(point, edge)``, those within ``dist``, with their distance, sorted."""
         far = _beyond_line(x[pi], x[pi], self.a[ei], self.b[ei], dist)
         pi, ei = pi[~far], ei[~far]
         d = point_segment_distance(x[pi], self.a[ei], self.b[ei])
@@ -222,6 +257,8 @@ class EdgeIndex:
             return np.zeros(0, np.int64), np.zeros(0, np.int64)
         if len(p) * len(self) <= _ALL_PAIRS:
             si, ei = _all_pairs(len(p), len(self))
+        elif len(p) * len(self) <= _BOX_PAIRS:
+            si, ei = self._box_pairs(p, q, dist)
         else:
             si, ei = self._candidates(p, q, dist)
             # A segment is no nearer to an edge than its middle is, less its half-length: this one
@@ -238,6 +275,18 @@ class EdgeIndex:
         si, ei = si[keep], ei[keep]
         order = np.lexsort((ei, si))
         return si[order], ei[order]
+
+    def _box_pairs(self, p: np.ndarray, q: np.ndarray, dist: float) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs ``(segment, edge)`` whose bounding boxes, the segment's grown by ``dist``, overlap: every
+        pair within ``dist``, sorted; one broadcast comparison of all pairs (few segments or few edges)."""
+        if self._boxes is None:
+            self._boxes = (np.minimum(self.a, self.b), np.maximum(self.a, self.b))
+        lo, hi = self._boxes
+        slo, shi = np.minimum(p, q) - dist, np.maximum(p, q) + dist
+        hit = ((slo[:, None, 0] <= hi[None, :, 0]) & (shi[:, None, 0] >= lo[None, :, 0])
+               & (slo[:, None, 1] <= hi[None, :, 1]) & (shi[:, None, 1] >= lo[None, :, 1]))
+        si, ei = np.nonzero(hit)
+        return si.astype(np.int64), ei.astype(np.int64)
 
     def _candidates(self, p: np.ndarray, q: np.ndarray, dist: float) -> tuple[np.ndarray, np.ndarray]:
         """Pairs ``(segment, edge)`` that may lie within ``dist``: every pair that does, and others."""
