@@ -232,3 +232,22 @@ def test_pruning_drops_covered_elements_and_keeps_the_same_pieces(make, r, monke
             assert np.all(t0 + E.arc_sweep / X.arc_sw[k] <= hi[X.n_seg + k] + 1e-12)
         if r == 0.6:
             assert covered.mean() > 0.7          # 79 % at this size (r = 45 pixels)
+
+
+@pytest.mark.parametrize("seed", [4, 5])
+def test_small_shapes_give_the_same_pieces_by_trees_boxes_or_every_pair(seed, monkeypatch):
+    """The proximity queries' three ways of finding candidates (`_proximity`: trees, one broadcast box
+    comparison, every pair measured) give bit-identical pieces and corners on small polygons."""
+    from vectortighten import _proximity
+
+    shapes = list(_stars(seed, 6))
+    results = []
+    for every, boxes in [(0, 0), (0, 1 << 30), (1 << 30, 1 << 30)]:
+        monkeypatch.setattr(_proximity, "_ALL_PAIRS", every)
+        monkeypatch.setattr(_proximity, "_BOX_PAIRS", boxes)
+        results.append([_pieces(exact_offsets(S, r, side)) for S, r in shapes for side in (1, -1)])
+    assert sum(len(p[0]) + len(p[3]) for p in results[0]) > 20
+    for other in results[1:]:
+        for want, got in zip(results[0], other, strict=True):
+            for a, b in zip(want, got, strict=True):
+                np.testing.assert_array_equal(a, b)

@@ -82,3 +82,23 @@ def test_point_index_near_segments_trees_and_all_pairs_agree(seed, monkeypatch):
         monkeypatch.setattr(_proximity, "_ALL_PAIRS", limit)
         si, j = index.near_segments(p, q, dist)
         np.testing.assert_array_equal(np.column_stack([si, j]), want)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_near_segments_distance_per_segment(seed, monkeypatch):
+    """A distance for each segment gives, in every mode, the pairs of each segment at its own distance."""
+    rng = np.random.default_rng(seed)
+    a, b = _outline(600, rng)
+    index = EdgeIndex(a, b, 1.0)
+    p = rng.uniform(-11, 11, (80, 2))
+    q = p + rng.normal(0, 0.3, (80, 2))
+    dist = rng.uniform(0.5, 1.2, len(p))
+    d = segment_segment_distance(np.repeat(p, len(a), axis=0), np.repeat(q, len(a), axis=0),
+                                 np.tile(a, (len(p), 1)), np.tile(b, (len(p), 1))).reshape(len(p), len(a))
+    want = np.argwhere(d <= dist[:, None])
+    assert len(want) > 50 and len(want) != len(np.argwhere(d <= dist.max()))
+    for every, boxes in _MODES:
+        monkeypatch.setattr(_proximity, "_ALL_PAIRS", every)
+        monkeypatch.setattr(_proximity, "_BOX_PAIRS", boxes)
+        si, ei = index.near_segments(p, q, dist)
+        np.testing.assert_array_equal(np.column_stack([si, ei]), want)

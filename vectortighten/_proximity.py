@@ -251,38 +251,50 @@ class EdgeIndex:
             ok[open_[pi[d < dist]]] = False
         return ok
 
-    def near_segments(self, p: np.ndarray, q: np.ndarray, dist: float) -> tuple[np.ndarray, np.ndarray]:
-        """Pairs ``(segment, edge)`` with the edge within ``dist`` of the segment ``p[i]q[i]``, sorted."""
+    def near_segments(self, p: np.ndarray, q: np.ndarray, dist) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs ``(segment, edge)`` with the edge within ``dist`` of the segment ``p[i]q[i]``, sorted.
+
+        ``dist`` is one distance, or one for each segment (``(len(p),)``).
+        """
         if len(p) == 0 or len(self) == 0:
             return np.zeros(0, np.int64), np.zeros(0, np.int64)
+        each = np.ndim(dist) > 0
+        if each:
+            dist = np.asarray(dist, dtype=float)
         if len(p) * len(self) <= _ALL_PAIRS:
             si, ei = _all_pairs(len(p), len(self))
         elif len(p) * len(self) <= _BOX_PAIRS:
             si, ei = self._box_pairs(p, q, dist)
         else:
-            si, ei = self._candidates(p, q, dist)
+            si, ei = self._candidates(p, q, float(np.max(dist)))
             # A segment is no nearer to an edge than its middle is, less its half-length: this one
             # distance drops most candidates of short segments that graze the outline (and none that the
             # exact test below keeps: the margin is far above rounding).
             mid = 0.5 * (p + q)
             shalf = 0.5 * np.hypot(*(q - p).T)
             bound = point_segment_distance(mid[si], self.a[ei], self.b[ei]) - shalf[si]
-            near = bound <= dist + 1e-9 * (dist + shalf[si])
+            ds = dist[si] if each else dist
+            near = bound <= ds + 1e-9 * (ds + shalf[si])
             si, ei = si[near], ei[near]
-        far = _beyond_line(p[si], q[si], self.a[ei], self.b[ei], dist)
+        ds = dist[si] if each else dist
+        far = _beyond_line(p[si], q[si], self.a[ei], self.b[ei], ds)
         si, ei = si[~far], ei[~far]
-        keep = segment_segment_distance(p[si], q[si], self.a[ei], self.b[ei]) <= dist
+        ds = dist[si] if each else dist
+        keep = segment_segment_distance(p[si], q[si], self.a[ei], self.b[ei]) <= ds
         si, ei = si[keep], ei[keep]
         order = np.lexsort((ei, si))
         return si[order], ei[order]
 
-    def _box_pairs(self, p: np.ndarray, q: np.ndarray, dist: float) -> tuple[np.ndarray, np.ndarray]:
-        """Pairs ``(segment, edge)`` whose bounding boxes, the segment's grown by ``dist``, overlap: every
-        pair within ``dist``, sorted; one broadcast comparison of all pairs (few segments or few edges)."""
+    def _box_pairs(self, p: np.ndarray, q: np.ndarray, dist) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs ``(segment, edge)`` whose bounding boxes, the segment's grown by ``dist`` (and a margin
+        far above rounding), overlap: every pair within ``dist`` and others, sorted by segment, then edge;
+        one broadcast comparison of all pairs (few segments or few edges)."""
         if self._boxes is None:
-            self._boxes = (np.minimum(self.a, self.b), np.maximum(self.a, self.b))
-        lo, hi = self._boxes
-        slo, shi = np.minimum(p, q) - dist, np.maximum(p, q) + dist
+            lo, hi = np.minimum(self.a, self.b), np.maximum(self.a, self.b)
+            self._boxes = (lo, hi, float(np.abs(np.concatenate([lo, hi])).max()))
+        lo, hi, scale = self._boxes
+        pad = np.reshape(dist + 1e-9 * (dist + scale), (-1, 1))
+        slo, shi = np.minimum(p, q) - pad, np.maximum(p, q) + pad
         hit = ((slo[:, None, 0] <= hi[None, :, 0]) & (shi[:, None, 0] >= lo[None, :, 0])
                & (slo[:, None, 1] <= hi[None, :, 1]) & (shi[:, None, 1] >= lo[None, :, 1]))
         si, ei = np.nonzero(hit)

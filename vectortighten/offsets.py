@@ -32,6 +32,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
+from . import _proximity
 from ._proximity import EdgeIndex, _length_classes, _tree
 
 __all__ = ["OffsetPieces", "exact_offsets", "precision_of"]
@@ -280,6 +281,9 @@ class _Elements:
         """Points at parameters ``t`` of elements ``e``."""
         e = np.asarray(e, dtype=np.int64)
         t = np.asarray(t, dtype=float)
+        if self.n_arc == 0 or (len(e) and e.max() < self.n_seg):     # straight pieces only
+            p0 = self.seg[e, 0]
+            return p0 + t[:, None] * (self.seg[e, 1] - p0)
         out = np.empty((len(e), 2))
         s = e < self.n_seg
         out[s] = self.seg[e[s], 0] + t[s, None] * (self.seg[e[s], 1] - self.seg[e[s], 0])
@@ -337,10 +341,19 @@ class _Elements:
                 sa = arc[short]
                 sag = self.r * (1.0 - np.cos(0.5 * sweep[short]))
                 p, q = self.points(e[sa], lo[sa]), self.points(e[sa], hi[sa])
-                for group in _length_classes(sag, np.arange(len(sa))):
-                    dist = self.r + slack + float(sag[group].max()) * (1.0 + 1e-9)
-                    si, ej = self._index.near_segments(p[group], q[group], dist)
-                    pis.append(sa[group[si]]), pjs.append(ej)
+                groups = _length_classes(sag, np.arange(len(sa)))
+                dist = [self.r + slack + float(sag[group].max()) * (1.0 + 1e-9) for group in groups]
+                if len(sa) * len(self._index) <= _proximity._BOX_PAIRS:
+                    # Few pairs: one query, each chord at its group's distance (the same pairs).
+                    each = np.empty(len(sa))
+                    for group, d in zip(groups, dist):
+                        each[group] = d
+                    si, ej = self._index.near_segments(p, q, each)
+                    pis.append(sa[si]), pjs.append(ej)
+                else:
+                    for group, d in zip(groups, dist):
+                        si, ej = self._index.near_segments(p[group], q[group], d)
+                        pis.append(sa[group[si]]), pjs.append(ej)
                 arc = arc[~short]
         if len(arc):
             g, sag = self.geoms(e[arc], lo[arc], hi[arc])
