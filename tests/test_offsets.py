@@ -251,3 +251,23 @@ def test_small_shapes_give_the_same_pieces_by_trees_boxes_or_every_pair(seed, mo
         for want, got in zip(results[0], other, strict=True):
             for a, b in zip(want, got, strict=True):
                 np.testing.assert_array_equal(a, b)
+
+
+def test_edges_of_many_rings_drop_repeats_closing_points_and_degenerate_rings():
+    """`offsets._edges` on all rings at once: repeated points and closing points go, rings of fewer than
+    three distinct points go, and each edge's successor starts where it ends, within its own ring."""
+    from vectortighten.offsets import _edges
+
+    outer = [(0, 0), (4, 0), (4, 0), (4, 4), (0, 4), (0, 0)]
+    holes = [[(1, 1), (1, 1), (2, 1), (1, 1)],                 # two distinct points: dropped
+             [(1, 2), (1, 3), (2, 3), (2, 2), (1, 2)]]
+    S = shapely.MultiPolygon([Polygon(outer, holes), box(10, 0, 11, 1)])
+    a, b, prv, nxt = _edges(S)
+    assert len(a) == 4 + 4 + 4
+    np.testing.assert_array_equal(a[:4], [(0, 0), (4, 0), (4, 4), (0, 4)])
+    np.testing.assert_array_equal(b, a[nxt])
+    np.testing.assert_array_equal(prv[nxt], np.arange(len(a)))
+    ring = np.repeat([0, 1, 2], 4)
+    np.testing.assert_array_equal(ring[nxt], ring)
+    assert not np.any(np.all(a == b, axis=1))
+    assert [len(x) for x in _edges(Polygon())] == [0, 0, 0, 0]

@@ -143,29 +143,39 @@ class OffsetPieces:
 
 
 def _edges(S):
-    """Edges of an oriented S (interior on the left), with each edge's predecessor and successor."""
-    a, b, prv, nxt = [], [], [], []
-    off = 0
-    for ring in shapely.get_rings(shapely.get_parts(S)):
-        c = shapely.get_coordinates(ring)[:, :2]
+    """Edges of an oriented S (interior on the left), with each edge's predecessor and successor.
+
+    Each ring loses its repeated consecutive points and its closing point; rings of fewer than three
+    points are dropped. All rings at once (no loop over rings: a shape of many small parts).
+    """
+    rings = shapely.get_rings(shapely.get_parts(S))
+    c, rid = shapely.get_coordinates(rings, return_index=True)
+    c = c[:, :2]
+    if len(c):
         keep = np.ones(len(c), dtype=bool)
-        keep[1:] = np.any(c[1:] != c[:-1], axis=1)
-        c = c[keep]
-        if len(c) > 1 and np.all(c[0] == c[-1]):
-            c = c[:-1]
-        n = len(c)
-        if n < 3:
-            continue
-        a.append(c)
-        b.append(np.roll(c, -1, axis=0))
-        idx = np.arange(n)
-        prv.append(off + (idx - 1) % n)
-        nxt.append(off + (idx + 1) % n)
-        off += n
-    if not a:
+        keep[1:] = (rid[1:] != rid[:-1]) | np.any(c[1:] != c[:-1], axis=1)
+        c, rid = c[keep], rid[keep]
+    first = np.flatnonzero(np.r_[True, rid[1:] != rid[:-1]]) if len(c) else np.zeros(0, np.int64)
+    end = np.r_[first[1:], len(c)].astype(np.int64)
+    # A closing point (equal to its ring's first) goes.
+    closed = (end - first > 1) & np.all(c[np.maximum(end - 1, 0)] == c[first], axis=1) if len(c) \
+        else np.zeros(0, dtype=bool)
+    drop = np.zeros(len(c), dtype=bool)
+    drop[end[closed] - 1] = True
+    size = end - first - closed
+    ok = size >= 3
+    keep = np.repeat(ok, end - first) & ~drop
+    if not keep.any():
         z = np.zeros((0, 2))
         return z, z, np.zeros(0, np.int64), np.zeros(0, np.int64)
-    return np.concatenate(a), np.concatenate(b), np.concatenate(prv), np.concatenate(nxt)
+    a = c[keep]
+    n = size[ok]
+    start = np.r_[0, np.cumsum(n)[:-1]].astype(np.int64)
+    ring = np.repeat(np.arange(len(n)), n)
+    pos = np.arange(len(a)) - start[ring]
+    nxt = start[ring] + (pos + 1) % n[ring]
+    prv = start[ring] + (pos - 1) % n[ring]
+    return a, a[nxt], prv, nxt
 
 
 def _cross(u, v):
@@ -263,12 +273,19 @@ class _Elements:
         self.n_seg, self.n_arc = len(a), len(ai)
         self.length = np.concatenate([np.hypot(*(seg[:, 1] - seg[:, 0]).T), r * np.abs(arc_sw)])
         self.tiny = np.where(self.length > 0, self.eps / np.maximum(self.length, 1e-300), 1.0)
-        self.tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1))) if len(a) else None
+        self._tree = None
         self._middles = None
         self._index = None
         # The edges that cannot cut an element: a segment's own edge, an arc's two edges.
         self.own = np.concatenate([np.stack([np.arange(len(a)), np.arange(len(a))], axis=1),
                                    np.stack([ai, nxt[ai]], axis=1)]) if len(a) else np.zeros((0, 2), np.int64)
+
+    @property
+    def tree(self):
+        """The edges in shapely's R-tree, built on first use (None if S has no edge)."""
+        if self._tree is None and len(self.a):
+            self._tree = shapely.STRtree(shapely.linestrings(np.stack([self.a, self.b], axis=1)))
+        return self._tree
 
     @property
     def middles(self) -> cKDTree:
@@ -355,7 +372,18 @@ class _Elements:
                         si, ej = self._index.near_segments(p[group], q[group], d)
                         pis.append(sa[group[si]]), pjs.append(ej)
                 arc = arc[~short]
-        if len(arc):
+        if len(arc) and len(arc) * len(self.a) <= _proximity._BOX_PAIRS:
+            # Few pairs: every edge whose box comes within r + slack of the arc's circle's box (more
+            # than the R-tree finds; the capsules of the others do not reach the arc: `_uncovered` takes
+            # nothing of it for them).
+            v = self.arc_v[e[arc] - self.n_seg]
+            pad = 2.0 * self.r + slack + 1e-9 * (self.r + float(np.abs(v).max()))
+            lo_e, hi_e = np.minimum(self.a, self.b), np.maximum(self.a, self.b)
+            hit = ((v[:, None, 0] - pad <= hi_e[None, :, 0]) & (v[:, None, 0] + pad >= lo_e[None, :, 0])
+                   & (v[:, None, 1] - pad <= hi_e[None, :, 1]) & (v[:, None, 1] + pad >= lo_e[None, :, 1]))
+            ai, ej = np.nonzero(hit)
+            pis.append(arc[ai]), pjs.append(ej.astype(np.int64))
+        elif len(arc):
             g, sag = self.geoms(e[arc], lo[arc], hi[arc])
             ai, ej = self.tree.query(g, predicate="dwithin", distance=self.r + sag + slack)
             pis.append(arc[ai]), pjs.append(ej)
@@ -576,10 +604,15 @@ def _dominated(X) -> np.ndarray:
     # Straight pieces: both ends in one capsule of a nearby edge.
     p0, p1 = X.seg[:, 0], X.seg[:, 1]
     fw = bw = np.arange(X.n_seg)
+    near = []
     for _ in range(2):
         fw, bw = X.nxt[fw], X.prv[bw]
-        for j in (fw, bw):
-            out[:X.n_seg] |= (X._edge_distance(p0, j) < rho) & (X._edge_distance(p1, j) < rho)
+        near += [fw, bw]
+    # The four neighbours' capsules in one call: both ends against each.
+    j = np.concatenate(near)
+    d = X._edge_distance(np.concatenate([np.tile(p0, (4, 1)), np.tile(p1, (4, 1))]), np.tile(j, 2)) < rho
+    d = d.reshape(2, 4, X.n_seg)
+    out[:X.n_seg] = (d[0] & d[1]).any(axis=0)
     if X.n_arc < 3:
         return out, lo, hi
     # Arcs: ρ-disks about the nearest undecided arc vertices along the ring.
@@ -831,8 +864,12 @@ def _on_pieces(X, el, lo, hi, xy, tol) -> np.ndarray:
     (farther than ``tol`` from its ends), exactly."""
     if len(xy) == 0 or len(el) == 0:
         return np.zeros(len(xy), dtype=bool)
-    g, sag = X.geoms(el, lo, hi)
-    pi, pj = shapely.STRtree(g).query(shapely.points(xy), predicate="dwithin", distance=tol + sag)
+    if len(xy) * len(el) <= _proximity._ALL_PAIRS:
+        # Few pairs: every point against every piece (each pair is measured exactly below).
+        pi, pj = _proximity._all_pairs(len(xy), len(el))
+    else:
+        g, sag = X.geoms(el, lo, hi)
+        pi, pj = shapely.STRtree(g).query(shapely.points(xy), predicate="dwithin", distance=tol + sag)
     if len(pi) == 0:
         return np.zeros(len(xy), dtype=bool)
     e, a, b = el[pj], lo[pj], hi[pj]
