@@ -298,15 +298,26 @@ class _Elements:
         """Points at parameters ``t`` of elements ``e``."""
         e = np.asarray(e, dtype=np.int64)
         t = np.asarray(t, dtype=float)
-        if self.n_arc == 0 or (len(e) and e.max() < self.n_seg):     # straight pieces only
+        s = e < self.n_seg
+        n_s = int(np.count_nonzero(s))
+        if n_s == len(e):                                   # straight pieces only
             p0 = self.seg[e, 0]
             return p0 + t[:, None] * (self.seg[e, 1] - p0)
+        if n_s == 0:                                        # arcs only
+            return self._arc_points(e - self.n_seg, t)
         out = np.empty((len(e), 2))
-        s = e < self.n_seg
         out[s] = self.seg[e[s], 0] + t[s, None] * (self.seg[e[s], 1] - self.seg[e[s], 0])
-        k = e[~s] - self.n_seg
-        ang = self.arc_a0[k] + self.arc_sw[k] * t[~s]
-        out[~s] = self.arc_v[k] + self.r * np.column_stack([np.cos(ang), np.sin(ang)])
+        out[~s] = self._arc_points(e[~s] - self.n_seg, t[~s])
+        return out
+
+    def _arc_points(self, k, t) -> np.ndarray:
+        """Points at parameters ``t`` of arcs ``k``."""
+        ang = self.arc_a0[k] + self.arc_sw[k] * t
+        out = np.empty((len(k), 2))
+        out[:, 0] = np.cos(ang)
+        out[:, 1] = np.sin(ang)
+        out *= self.r
+        out += self.arc_v[k]
         return out
 
     def geoms(self, e, lo, hi):
