@@ -3,9 +3,9 @@
 What it times, in each tree: ``tighten`` of the building footprints (`bench_geo.footprints`, ``--seed``,
 r = 1 m) that the AFTER tree's general engine takes (chosen in a first pass, the same list for both
 trees), ``exact_offsets`` of those footprints (both sides), and ``tighten`` of `bench_families`' families
-at ``--family-n`` vertices (their r, tolerance 1e-5·r; the median of three calls). Each round runs one fresh process per tree, the
-trees one after the other, so that both see the same load; the table gives the medians over the rounds of
-CPU milliseconds, and the ratio after / before. The total area of the results must agree.
+at ``--family-n`` vertices (their r, tolerance 1e-5·r; the median of three calls). Each round runs one
+fresh process per tree, the trees one after the other, so that both see the same load; the table gives
+the medians over the rounds of CPU milliseconds, and the ratio after / before. The total area of the results must agree.
 
 Run:  python benchmarks/ab_general.py BEFORE_ROOT AFTER_ROOT [--n 300] [--seed 3] [--rounds 3]
       [--family-n 1000] [--no-families]
@@ -98,8 +98,8 @@ def main() -> None:
     runs: dict[str, list[dict]] = {"before": [], "after": []}
     for _ in range(args.rounds):
         for name, root in (("before", args.before), ("after", args.after)):
-            res = subprocess.run([sys.executable, __file__, "--child", root, str(args.n), str(args.seed), only,
-                                  str(fam_n)], capture_output=True, text=True, check=True)
+            cmd = [sys.executable, __file__, "--child", root, str(args.n), str(args.seed), only, str(fam_n)]
+            res = subprocess.run(cmd, capture_output=True, text=True, check=True)
             runs[name].append(json.loads(res.stdout.strip().splitlines()[-1]))
     keys = [k for k in runs["before"][0] if not k.startswith("_")]
     print("| CPU ms (median of %d) | before | after | after / before |" % args.rounds)
