@@ -5,7 +5,8 @@ r = 1 m) that the AFTER tree's general engine takes (chosen in a first pass, the
 trees), ``exact_offsets`` of those footprints (both sides), and ``tighten`` of `bench_families`' families
 at ``--family-n`` vertices (their r, tolerance 1e-5·r; the median of three calls). Each round runs one
 fresh process per tree, the trees one after the other, so that both see the same load; the table gives
-the medians over the rounds of CPU milliseconds, and the ratio after / before. The total area of the results must agree.
+the medians over the rounds of CPU milliseconds, and the ratio after / before. The total area of the
+results must agree.
 
 Run:  python benchmarks/ab_general.py BEFORE_ROOT AFTER_ROOT [--n 300] [--seed 3] [--rounds 3]
       [--family-n 1000] [--no-families]
