@@ -244,6 +244,7 @@ def test_small_shapes_give_the_same_pieces_by_trees_boxes_or_every_pair(seed, mo
     results = []
     for every, boxes in [(0, 0), (0, 1 << 30), (1 << 30, 1 << 30)]:
         monkeypatch.setattr(_proximity, "_ALL_PAIRS", every)
+        monkeypatch.setattr(_proximity, "_EDGE_ALL_PAIRS", every)
         monkeypatch.setattr(_proximity, "_BOX_PAIRS", boxes)
         results.append([_pieces(exact_offsets(S, r, side)) for S, r in shapes for side in (1, -1)])
     assert sum(len(p[0]) + len(p[3]) for p in results[0]) > 20

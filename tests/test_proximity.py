@@ -19,7 +19,7 @@ def _outline(n, rng):
     return np.concatenate([a, long_a]), np.concatenate([b, long_b])
 
 
-#: ``(_ALL_PAIRS, _BOX_PAIRS)``: trees, one broadcast box comparison, every pair measured.
+#: ``(_EDGE_ALL_PAIRS, _BOX_PAIRS)``: trees, one broadcast box comparison, every pair measured.
 _MODES = [(0, 0), (0, 1 << 30), (1 << 30, 1 << 30)]
 
 
@@ -38,7 +38,7 @@ def test_near_segments_trees_and_all_pairs_agree(seed, monkeypatch):
     want = np.argwhere(d <= dist)
     assert len(want) > 100                              # the queries graze the ring
     for every, boxes in _MODES:
-        monkeypatch.setattr(_proximity, "_ALL_PAIRS", every)
+        monkeypatch.setattr(_proximity, "_EDGE_ALL_PAIRS", every)
         monkeypatch.setattr(_proximity, "_BOX_PAIRS", boxes)
         si, ei = index.near_segments(p, q, dist)
         np.testing.assert_array_equal(np.column_stack([si, ei]), want)
@@ -56,7 +56,7 @@ def test_near_points_trees_boxes_and_all_pairs_agree(seed, monkeypatch):
     assert len(want) > 100
     index = EdgeIndex(a, b, 1.0)
     for every, boxes in _MODES:
-        monkeypatch.setattr(_proximity, "_ALL_PAIRS", every)
+        monkeypatch.setattr(_proximity, "_EDGE_ALL_PAIRS", every)
         monkeypatch.setattr(_proximity, "_BOX_PAIRS", boxes)
         pi, ei, di = index.near_points(x, dist)
         # Sorted by point, then by distance; the distances are the exact ones of the pairs.
@@ -98,7 +98,7 @@ def test_near_segments_distance_per_segment(seed, monkeypatch):
     want = np.argwhere(d <= dist[:, None])
     assert len(want) > 50 and len(want) != len(np.argwhere(d <= dist.max()))
     for every, boxes in _MODES:
-        monkeypatch.setattr(_proximity, "_ALL_PAIRS", every)
+        monkeypatch.setattr(_proximity, "_EDGE_ALL_PAIRS", every)
         monkeypatch.setattr(_proximity, "_BOX_PAIRS", boxes)
         si, ei = index.near_segments(p, q, dist)
         np.testing.assert_array_equal(np.column_stack([si, ei]), want)
