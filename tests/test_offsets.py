@@ -254,11 +254,15 @@ def test_small_shapes_give_the_same_pieces_by_trees_boxes_or_every_pair(seed, mo
                 np.testing.assert_array_equal(a, b)
 
 
-def test_edges_of_many_rings_drop_repeats_closing_points_and_degenerate_rings():
-    """`offsets._edges` on all rings at once: repeated points and closing points go, rings of fewer than
-    three distinct points go, and each edge's successor starts where it ends, within its own ring."""
+@pytest.mark.parametrize("few", [0, 8])
+def test_edges_of_many_rings_drop_repeats_closing_points_and_degenerate_rings(few, monkeypatch):
+    """`offsets._edges`, all rings at once or one at a time: repeated points and closing points go, rings
+    of fewer than three distinct points go, and each edge's successor starts where it ends, within its
+    own ring."""
+    from vectortighten import offsets
     from vectortighten.offsets import _edges
 
+    monkeypatch.setattr(offsets, "_FEW_RINGS", few)
     outer = [(0, 0), (4, 0), (4, 0), (4, 4), (0, 4), (0, 0)]
     holes = [[(1, 1), (1, 1), (2, 1), (1, 1)],                 # two distinct points: dropped
              [(1, 2), (1, 3), (2, 3), (2, 2), (1, 2)]]
@@ -272,3 +276,17 @@ def test_edges_of_many_rings_drop_repeats_closing_points_and_degenerate_rings():
     np.testing.assert_array_equal(ring[nxt], ring)
     assert not np.any(np.all(a == b, axis=1))
     assert [len(x) for x in _edges(Polygon())] == [0, 0, 0, 0]
+
+
+def test_edges_all_rings_at_once_equal_one_at_a_time(monkeypatch):
+    from vectortighten import offsets
+
+    rng = np.random.default_rng(2)
+    parts = [Point(rng.uniform(0, 50, 2)).buffer(rng.uniform(0.5, 2), quad_segs=int(rng.integers(1, 5)))
+             for _ in range(40)]
+    S = check_shape(shapely.union_all(parts))
+    assert len(shapely.get_rings(shapely.get_parts(S))) > 8
+    want = offsets._ring_edges(shapely.get_rings(shapely.get_parts(S)))
+    for x, y in zip(want, offsets._edges(S), strict=True):
+        assert x.dtype == y.dtype
+        np.testing.assert_array_equal(x, y)

@@ -146,9 +146,12 @@ def _edges(S):
     """Edges of an oriented S (interior on the left), with each edge's predecessor and successor.
 
     Each ring loses its repeated consecutive points and its closing point; rings of fewer than three
-    points are dropped. All rings at once (no loop over rings: a shape of many small parts).
+    points are dropped. Many rings at once (no loop over rings: a shape of many small parts); a few one
+    at a time (`_ring_edges`, fewer numpy calls).
     """
     rings = shapely.get_rings(shapely.get_parts(S))
+    if len(rings) < _FEW_RINGS:
+        return _ring_edges(rings)
     c, rid = shapely.get_coordinates(rings, return_index=True)
     c = c[:, :2]
     if len(c):
@@ -176,6 +179,35 @@ def _edges(S):
     nxt = start[ring] + (pos + 1) % n[ring]
     prv = start[ring] + (pos - 1) % n[ring]
     return a, a[nxt], prv, nxt
+
+
+_FEW_RINGS = 8      # `_edges` takes fewer rings than this one at a time
+
+
+def _ring_edges(rings):
+    """`_edges` of a few rings, one ring at a time."""
+    a, b, prv, nxt = [], [], [], []
+    off = 0
+    for ring in rings:
+        c = shapely.get_coordinates(ring)[:, :2]
+        keep = np.ones(len(c), dtype=bool)
+        keep[1:] = np.any(c[1:] != c[:-1], axis=1)
+        c = c[keep]
+        if len(c) > 1 and np.all(c[0] == c[-1]):
+            c = c[:-1]
+        n = len(c)
+        if n < 3:
+            continue
+        a.append(c)
+        b.append(np.roll(c, -1, axis=0))
+        idx = np.arange(n)
+        prv.append(off + (idx - 1) % n)
+        nxt.append(off + (idx + 1) % n)
+        off += n
+    if not a:
+        z = np.zeros((0, 2))
+        return z, z, np.zeros(0, np.int64), np.zeros(0, np.int64)
+    return np.concatenate(a), np.concatenate(b), np.concatenate(prv), np.concatenate(nxt)
 
 
 def _cross(u, v):
