@@ -51,12 +51,13 @@ def _tree(points: np.ndarray) -> cKDTree:
 
 def point_segment_distance(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Distance from each point ``x[i]`` to the segment ``a[i]b[i]``, ``(n,)``."""
-    d = b - a
-    L2 = np.einsum("ij,ij->i", d, d)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.clip(np.einsum("ij,ij->i", x - a, d) / L2, 0.0, 1.0)
-    t = np.where(L2 > 0, t, 0.0)
-    return np.hypot(x[:, 0] - a[:, 0] - t * d[:, 0], x[:, 1] - a[:, 1] - t * d[:, 1])
+    dx, dy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
+    wx, wy = x[:, 0] - a[:, 0], x[:, 1] - a[:, 1]
+    L2 = dx * dx + dy * dy
+    t = np.zeros(len(L2))
+    np.divide(wx * dx + wy * dy, L2, out=t, where=L2 > 0)
+    np.clip(t, 0.0, 1.0, out=t)
+    return np.hypot(wx - t * dx, wy - t * dy)
 
 
 def segment_segment_distance(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:

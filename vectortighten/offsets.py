@@ -473,13 +473,13 @@ class _Elements:
 
     def _edge_distance(self, xy, j):
         p, q = self.a[j], self.b[j]
-        v = q - p
-        L2 = (v * v).sum(axis=1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            u = np.clip(((xy - p) * v).sum(axis=1) / L2, 0.0, 1.0)
-        u = np.where(L2 > 0, u, 0.0)
-        f = p + u[:, None] * v
-        return np.hypot(xy[:, 0] - f[:, 0], xy[:, 1] - f[:, 1])
+        px, py = p[:, 0], p[:, 1]
+        vx, vy = q[:, 0] - px, q[:, 1] - py
+        L2 = vx * vx + vy * vy
+        u = np.zeros(len(L2))
+        np.divide((xy[:, 0] - px) * vx + (xy[:, 1] - py) * vy, L2, out=u, where=L2 > 0)
+        np.clip(u, 0.0, 1.0, out=u)
+        return np.hypot(xy[:, 0] - (px + u * vx), xy[:, 1] - (py + u * vy))
 
     def crowded(self, xy, reach) -> np.ndarray:
         """Whether more than `_FEW_EDGES` edges have their middle within ``reach`` of each point."""
