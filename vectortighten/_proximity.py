@@ -32,7 +32,9 @@ _ALL_PAIRS = 1 << 12
 
 #: Below this many (segment, edge) pairs, the pairs whose bounding boxes overlap are found by one
 #: broadcast comparison rather than by walking trees (the same pairs come out, and more, all measured).
-_BOX_PAIRS = 1 << 18
+#: Above it, on dense outlines (1000 short edges, grazing queries), the trees are faster; an index whose
+#: queries are long pieces across few long edges may set its own (`EdgeIndex`'s ``box_pairs``).
+_BOX_PAIRS = 1 << 14
 
 #: Below this many (query, edge) pairs, `EdgeIndex` measures every pair; above (up to `_BOX_PAIRS`) it
 #: measures those whose boxes overlap: on footprints' offsets, 2x faster per query from 256 pairs on.
@@ -103,10 +105,21 @@ class EdgeIndex:
         The segments' ends.
     r : float
         The scale of the queries' distances; edges with half-length above ``0.01·r`` go to an R-tree.
+    box_pairs : int, optional
+        Up to this many (query, edge) pairs, candidates by one broadcast comparison of bounding boxes
+        rather than by the trees (default `_BOX_PAIRS`).
+
+    Examples
+    --------
+    >>> a = np.array([[0.0, 0.0], [4.0, 0.0]]); b = np.array([[4.0, 0.0], [4.0, 4.0]])
+    >>> si, ei = EdgeIndex(a, b, 1.0).near_segments(np.array([[1.0, 0.5]]), np.array([[3.0, 0.5]]), 1.0)
+    >>> ei.tolist()
+    [0, 1]
     """
 
-    def __init__(self, a: np.ndarray, b: np.ndarray, r: float):
+    def __init__(self, a: np.ndarray, b: np.ndarray, r: float, box_pairs: int | None = None):
         self.a, self.b, self.r = a, b, r
+        self.box_pairs = box_pairs
         self._boxes = None
         self._trees = None
 
@@ -142,6 +155,9 @@ class EdgeIndex:
     def __len__(self) -> int:
         return len(self.a)
 
+    def _box_limit(self) -> int:
+        return _BOX_PAIRS if self.box_pairs is None else self.box_pairs
+
     def near_points(self, x: np.ndarray, dist: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Pairs ``(point, edge, distance)`` with the edge within ``dist`` of the point.
 
@@ -149,7 +165,7 @@ class EdgeIndex:
         """
         if 0 < len(x) * len(self) <= _EDGE_ALL_PAIRS:
             return self._measured(x, *_all_pairs(len(x), len(self)), dist)
-        if 0 < len(x) * len(self) <= _BOX_PAIRS:
+        if 0 < len(x) * len(self) <= self._box_limit():
             return self._measured(x, *self._box_pairs(x, x, dist), dist)
         P, E = [], []
         if len(x) and self.classes:
@@ -273,7 +289,7 @@ class EdgeIndex:
             dist = np.asarray(dist, dtype=float)
         if len(p) * len(self) <= _EDGE_ALL_PAIRS:
             si, ei = _all_pairs(len(p), len(self))
-        elif len(p) * len(self) <= _BOX_PAIRS:
+        elif len(p) * len(self) <= self._box_limit():
             si, ei = self._box_pairs(p, q, dist)
         else:
             si, ei = self._candidates(p, q, float(np.max(dist)))
