@@ -232,3 +232,61 @@ def test_pruning_drops_covered_elements_and_keeps_the_same_pieces(make, r, monke
             assert np.all(t0 + E.arc_sweep / X.arc_sw[k] <= hi[X.n_seg + k] + 1e-12)
         if r == 0.6:
             assert covered.mean() > 0.7          # 79 % at this size (r = 45 pixels)
+
+
+@pytest.mark.parametrize("seed", [4, 5])
+def test_small_shapes_give_the_same_pieces_by_trees_boxes_or_every_pair(seed, monkeypatch):
+    """The proximity queries' three ways of finding candidates (`_proximity`: trees, one broadcast box
+    comparison, every pair measured) give bit-identical pieces and corners on small polygons."""
+    from vectortighten import _proximity
+
+    shapes = list(_stars(seed, 6))
+    results = []
+    for every, boxes in [(0, 0), (0, 1 << 30), (1 << 30, 1 << 30)]:
+        monkeypatch.setattr(_proximity, "_ALL_PAIRS", every)
+        monkeypatch.setattr(_proximity, "_EDGE_ALL_PAIRS", every)
+        monkeypatch.setattr(_proximity, "_BOX_PAIRS", boxes)
+        results.append([_pieces(exact_offsets(S, r, side)) for S, r in shapes for side in (1, -1)])
+    assert sum(len(p[0]) + len(p[3]) for p in results[0]) > 20
+    for other in results[1:]:
+        for want, got in zip(results[0], other, strict=True):
+            for a, b in zip(want, got, strict=True):
+                np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("few", [0, 8])
+def test_edges_of_many_rings_drop_repeats_closing_points_and_degenerate_rings(few, monkeypatch):
+    """`offsets._edges`, all rings at once or one at a time: repeated points and closing points go, rings
+    of fewer than three distinct points go, and each edge's successor starts where it ends, within its
+    own ring."""
+    from vectortighten import offsets
+    from vectortighten.offsets import _edges
+
+    monkeypatch.setattr(offsets, "_FEW_RINGS", few)
+    outer = [(0, 0), (4, 0), (4, 0), (4, 4), (0, 4), (0, 0)]
+    holes = [[(1, 1), (1, 1), (2, 1), (1, 1)],                 # two distinct points: dropped
+             [(1, 2), (1, 3), (2, 3), (2, 2), (1, 2)]]
+    S = shapely.MultiPolygon([Polygon(outer, holes), box(10, 0, 11, 1)])
+    a, b, prv, nxt = _edges(S)
+    assert len(a) == 4 + 4 + 4
+    np.testing.assert_array_equal(a[:4], [(0, 0), (4, 0), (4, 4), (0, 4)])
+    np.testing.assert_array_equal(b, a[nxt])
+    np.testing.assert_array_equal(prv[nxt], np.arange(len(a)))
+    ring = np.repeat([0, 1, 2], 4)
+    np.testing.assert_array_equal(ring[nxt], ring)
+    assert not np.any(np.all(a == b, axis=1))
+    assert [len(x) for x in _edges(Polygon())] == [0, 0, 0, 0]
+
+
+def test_edges_all_rings_at_once_equal_one_at_a_time(monkeypatch):
+    from vectortighten import offsets
+
+    rng = np.random.default_rng(2)
+    parts = [Point(rng.uniform(0, 50, 2)).buffer(rng.uniform(0.5, 2), quad_segs=int(rng.integers(1, 5)))
+             for _ in range(40)]
+    S = check_shape(shapely.union_all(parts))
+    assert len(shapely.get_rings(shapely.get_parts(S))) > 8
+    want = offsets._ring_edges(shapely.get_rings(shapely.get_parts(S)))
+    for x, y in zip(want, offsets._edges(S), strict=True):
+        assert x.dtype == y.dtype
+        np.testing.assert_array_equal(x, y)

@@ -8,6 +8,11 @@ of boundary; a ball search among the edges' midpoints (a k-d tree) examines only
 around the ball as wide as the edges are long. So edges are grouped by length (half-lengths within a
 factor of two), one k-d tree a group, and the few edges longer than a fiftieth of r go to an R-tree.
 Every pair a search returns is then measured exactly.
+
+Small questions (a footprint of thirty edges, a few dozen queries) cost more in building and walking
+trees than in measuring: below `_EDGE_ALL_PAIRS` pairs every pair is measured, and below `_BOX_PAIRS`
+the candidates are the pairs whose bounding boxes overlap, found by one broadcast comparison; the trees
+are built only when a question needs them. All three ways give the same pairs.
 """
 
 from __future__ import annotations
@@ -25,6 +30,16 @@ _LONG_HALF_R = 1.0
 #: (a small polygon's loop against its offsets), and the same pairs come out.
 _ALL_PAIRS = 1 << 12
 
+#: Below this many (segment, edge) pairs, the pairs whose bounding boxes overlap are found by one
+#: broadcast comparison rather than by walking trees (the same pairs come out, and more, all measured).
+#: Above it, on dense outlines (1000 short edges, grazing queries), the trees are faster; an index whose
+#: queries are long pieces across few long edges may set its own (`EdgeIndex`'s ``box_pairs``).
+_BOX_PAIRS = 1 << 14
+
+#: Below this many (query, edge) pairs, `EdgeIndex` measures every pair; above (up to `_BOX_PAIRS`) it
+#: measures those whose boxes overlap: on footprints' offsets, 2x faster per query from 256 pairs on.
+_EDGE_ALL_PAIRS = 1 << 8
+
 
 def _all_pairs(m: int, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Every pair ``(i, j)``, ``i < m``, ``j < n``, sorted."""
@@ -38,12 +53,13 @@ def _tree(points: np.ndarray) -> cKDTree:
 
 def point_segment_distance(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Distance from each point ``x[i]`` to the segment ``a[i]b[i]``, ``(n,)``."""
-    d = b - a
-    L2 = np.einsum("ij,ij->i", d, d)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.clip(np.einsum("ij,ij->i", x - a, d) / L2, 0.0, 1.0)
-    t = np.where(L2 > 0, t, 0.0)
-    return np.hypot(x[:, 0] - a[:, 0] - t * d[:, 0], x[:, 1] - a[:, 1] - t * d[:, 1])
+    dx, dy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
+    wx, wy = x[:, 0] - a[:, 0], x[:, 1] - a[:, 1]
+    L2 = dx * dx + dy * dy
+    t = np.zeros(len(L2))
+    np.divide(wx * dx + wy * dy, L2, out=t, where=L2 > 0)
+    np.clip(t, 0.0, 1.0, out=t)
+    return np.hypot(wx - t * dx, wy - t * dy)
 
 
 def segment_segment_distance(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -89,26 +105,68 @@ class EdgeIndex:
         The segments' ends.
     r : float
         The scale of the queries' distances; edges with half-length above ``0.01·r`` go to an R-tree.
+    box_pairs : int, optional
+        Up to this many (query, edge) pairs, candidates by one broadcast comparison of bounding boxes
+        rather than by the trees (default `_BOX_PAIRS`).
+
+    Examples
+    --------
+    >>> a = np.array([[0.0, 0.0], [4.0, 0.0]]); b = np.array([[4.0, 0.0], [4.0, 4.0]])
+    >>> si, ei = EdgeIndex(a, b, 1.0).near_segments(np.array([[1.0, 0.5]]), np.array([[3.0, 0.5]]), 1.0)
+    >>> ei.tolist()
+    [0, 1]
     """
 
-    def __init__(self, a: np.ndarray, b: np.ndarray, r: float):
-        self.a, self.b = a, b
+    def __init__(self, a: np.ndarray, b: np.ndarray, r: float, box_pairs: int | None = None):
+        self.a, self.b, self.r = a, b, r
+        self.box_pairs = box_pairs
+        self._boxes = None
+        self._trees = None
+
+    def _build(self):
+        """The k-d trees of the length classes and the R-tree of the long edges, built on first use (a
+        small outline's queries may all go by `_all_pairs` or `_box_pairs`)."""
+        a, b = self.a, self.b
         half = 0.5 * np.hypot(*(b - a).T) if len(a) else np.zeros(0)
-        short = half <= _LONG_HALF_R * r
-        self.classes = [(ids, float(half[ids].max()), _tree(0.5 * (a[ids] + b[ids])))
-                        for ids in _length_classes(half, np.flatnonzero(short))]
-        self.long = np.flatnonzero(~short)
-        self.rtree = shapely.STRtree(shapely.linestrings(np.stack([a[self.long], b[self.long]], axis=1))) \
-            if len(self.long) else None
+        short = half <= _LONG_HALF_R * self.r
+        classes = [(ids, float(half[ids].max()), _tree(0.5 * (a[ids] + b[ids])))
+                   for ids in _length_classes(half, np.flatnonzero(short))]
+        long_ = np.flatnonzero(~short)
+        rtree = shapely.STRtree(shapely.linestrings(np.stack([a[long_], b[long_]], axis=1))) \
+            if len(long_) else None
+        self._trees = (classes, long_, rtree)
+        return self._trees
+
+    @property
+    def classes(self) -> list:
+        """``(edge ids, largest half-length, k-d tree of their middles)`` per length class."""
+        return (self._trees or self._build())[0]
+
+    @property
+    def long(self) -> np.ndarray:
+        """The edges searched with the R-tree."""
+        return (self._trees or self._build())[1]
+
+    @property
+    def rtree(self):
+        """The R-tree of the long edges (None if there are none)."""
+        return (self._trees or self._build())[2]
 
     def __len__(self) -> int:
         return len(self.a)
+
+    def _box_limit(self) -> int:
+        return _BOX_PAIRS if self.box_pairs is None else self.box_pairs
 
     def near_points(self, x: np.ndarray, dist: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Pairs ``(point, edge, distance)`` with the edge within ``dist`` of the point.
 
         Sorted by point, then by distance.
         """
+        if 0 < len(x) * len(self) <= _EDGE_ALL_PAIRS:
+            return self._measured(x, *_all_pairs(len(x), len(self)), dist)
+        if 0 < len(x) * len(self) <= self._box_limit():
+            return self._measured(x, *self._box_pairs(x, x, dist), dist)
         P, E = [], []
         if len(x) and self.classes:
             tree = _tree(x)
@@ -122,7 +180,10 @@ class EdgeIndex:
             E.append(self.long[ei])
         if not P:
             return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0)
-        pi, ei = np.concatenate(P), np.concatenate(E)
+        return self._measured(x, np.concatenate(P), np.concatenate(E), dist)
+
+    def _measured(self, x: np.ndarray, pi: np.ndarray, ei: np.ndarray, dist: float):
+        """Of candidate pairs ``(point, edge)``, those within ``dist``, with their distance, sorted."""
         far = _beyond_line(x[pi], x[pi], self.a[ei], self.b[ei], dist)
         pi, ei = pi[~far], ei[~far]
         d = point_segment_distance(x[pi], self.a[ei], self.b[ei])
@@ -216,28 +277,54 @@ class EdgeIndex:
             ok[open_[pi[d < dist]]] = False
         return ok
 
-    def near_segments(self, p: np.ndarray, q: np.ndarray, dist: float) -> tuple[np.ndarray, np.ndarray]:
-        """Pairs ``(segment, edge)`` with the edge within ``dist`` of the segment ``p[i]q[i]``, sorted."""
+    def near_segments(self, p: np.ndarray, q: np.ndarray, dist) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs ``(segment, edge)`` with the edge within ``dist`` of the segment ``p[i]q[i]``, sorted.
+
+        ``dist`` is one distance, or one for each segment (``(len(p),)``).
+        """
         if len(p) == 0 or len(self) == 0:
             return np.zeros(0, np.int64), np.zeros(0, np.int64)
-        if len(p) * len(self) <= _ALL_PAIRS:
+        each = np.ndim(dist) > 0
+        if each:
+            dist = np.asarray(dist, dtype=float)
+        if len(p) * len(self) <= _EDGE_ALL_PAIRS:
             si, ei = _all_pairs(len(p), len(self))
+        elif len(p) * len(self) <= self._box_limit():
+            si, ei = self._box_pairs(p, q, dist)
         else:
-            si, ei = self._candidates(p, q, dist)
+            si, ei = self._candidates(p, q, float(np.max(dist)))
             # A segment is no nearer to an edge than its middle is, less its half-length: this one
             # distance drops most candidates of short segments that graze the outline (and none that the
             # exact test below keeps: the margin is far above rounding).
             mid = 0.5 * (p + q)
             shalf = 0.5 * np.hypot(*(q - p).T)
             bound = point_segment_distance(mid[si], self.a[ei], self.b[ei]) - shalf[si]
-            near = bound <= dist + 1e-9 * (dist + shalf[si])
+            ds = dist[si] if each else dist
+            near = bound <= ds + 1e-9 * (ds + shalf[si])
             si, ei = si[near], ei[near]
-        far = _beyond_line(p[si], q[si], self.a[ei], self.b[ei], dist)
+        ds = dist[si] if each else dist
+        far = _beyond_line(p[si], q[si], self.a[ei], self.b[ei], ds)
         si, ei = si[~far], ei[~far]
-        keep = segment_segment_distance(p[si], q[si], self.a[ei], self.b[ei]) <= dist
+        ds = dist[si] if each else dist
+        keep = segment_segment_distance(p[si], q[si], self.a[ei], self.b[ei]) <= ds
         si, ei = si[keep], ei[keep]
         order = np.lexsort((ei, si))
         return si[order], ei[order]
+
+    def _box_pairs(self, p: np.ndarray, q: np.ndarray, dist) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs ``(segment, edge)`` whose bounding boxes, the segment's grown by ``dist`` (and a margin
+        far above rounding), overlap: every pair within ``dist`` and others, sorted by segment, then edge;
+        one broadcast comparison of all pairs (few segments or few edges)."""
+        if self._boxes is None:
+            lo, hi = np.minimum(self.a, self.b), np.maximum(self.a, self.b)
+            self._boxes = (lo, hi, float(np.abs(np.concatenate([lo, hi])).max()))
+        lo, hi, scale = self._boxes
+        pad = np.reshape(dist + 1e-9 * (dist + scale), (-1, 1))
+        slo, shi = np.minimum(p, q) - pad, np.maximum(p, q) + pad
+        hit = ((slo[:, None, 0] <= hi[None, :, 0]) & (shi[:, None, 0] >= lo[None, :, 0])
+               & (slo[:, None, 1] <= hi[None, :, 1]) & (shi[:, None, 1] >= lo[None, :, 1]))
+        si, ei = np.nonzero(hit)
+        return si.astype(np.int64), ei.astype(np.int64)
 
     def _candidates(self, p: np.ndarray, q: np.ndarray, dist: float) -> tuple[np.ndarray, np.ndarray]:
         """Pairs ``(segment, edge)`` that may lie within ``dist``: every pair that does, and others."""

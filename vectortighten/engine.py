@@ -56,6 +56,7 @@ _TWO_PI = 2.0 * math.pi
 _ANGLE_EPS = 1e-9
 _MAX_FINISH_STEPS = 200
 _MAX_SURGERY_ROUNDS = 64
+_OBSTACLE_BOX_PAIRS = 1 << 18    # `_Context.oindex`: up to this many pairs, candidates by boxes
 
 
 class Init(str, enum.Enum):
@@ -161,8 +162,10 @@ class _Context:
         shapely.prepare(self.S_boundary)
         a, b, _ = boundary_edges(S)
         self._s_tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
-        # The obstacle edges for the finish's grazing queries (see `_proximity`).
-        self.oindex = EdgeIndex(self.oedges[:, 0], self.oedges[:, 1], r)
+        # The obstacle edges for the finish's grazing queries (see `_proximity`). The queries are a loop's
+        # tangents and arc chords, few against many short chords: candidates by boxes up to more pairs
+        # than the default (on footprints, 2.1 ms against the trees' 3.4 ms per context).
+        self.oindex = EdgeIndex(self.oedges[:, 0], self.oedges[:, 1], r, box_pairs=_OBSTACLE_BOX_PAIRS)
         self._R = None
         self._F = None
         self._domain = None

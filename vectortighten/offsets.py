@@ -32,6 +32,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
+from . import _proximity
 from ._proximity import EdgeIndex, _length_classes, _tree
 
 __all__ = ["OffsetPieces", "exact_offsets", "precision_of"]
@@ -142,10 +143,52 @@ class OffsetPieces:
 
 
 def _edges(S):
-    """Edges of an oriented S (interior on the left), with each edge's predecessor and successor."""
+    """Edges of an oriented S (interior on the left), with each edge's predecessor and successor.
+
+    Each ring loses its repeated consecutive points and its closing point; rings of fewer than three
+    points are dropped. Many rings at once (no loop over rings: a shape of many small parts); a few one
+    at a time (`_ring_edges`, fewer numpy calls).
+    """
+    rings = shapely.get_rings(shapely.get_parts(S))
+    if len(rings) < _FEW_RINGS:
+        return _ring_edges(rings)
+    c, rid = shapely.get_coordinates(rings, return_index=True)
+    c = c[:, :2]
+    if len(c):
+        keep = np.ones(len(c), dtype=bool)
+        keep[1:] = (rid[1:] != rid[:-1]) | np.any(c[1:] != c[:-1], axis=1)
+        c, rid = c[keep], rid[keep]
+    first = np.flatnonzero(np.r_[True, rid[1:] != rid[:-1]]) if len(c) else np.zeros(0, np.int64)
+    end = np.r_[first[1:], len(c)].astype(np.int64)
+    # A closing point (equal to its ring's first) goes.
+    closed = (end - first > 1) & np.all(c[np.maximum(end - 1, 0)] == c[first], axis=1) if len(c) \
+        else np.zeros(0, dtype=bool)
+    drop = np.zeros(len(c), dtype=bool)
+    drop[end[closed] - 1] = True
+    size = end - first - closed
+    ok = size >= 3
+    keep = np.repeat(ok, end - first) & ~drop
+    if not keep.any():
+        z = np.zeros((0, 2))
+        return z, z, np.zeros(0, np.int64), np.zeros(0, np.int64)
+    a = c[keep]
+    n = size[ok]
+    start = np.r_[0, np.cumsum(n)[:-1]].astype(np.int64)
+    ring = np.repeat(np.arange(len(n)), n)
+    pos = np.arange(len(a)) - start[ring]
+    nxt = start[ring] + (pos + 1) % n[ring]
+    prv = start[ring] + (pos - 1) % n[ring]
+    return a, a[nxt], prv, nxt
+
+
+_FEW_RINGS = 8      # `_edges` takes fewer rings than this one at a time
+
+
+def _ring_edges(rings):
+    """`_edges` of a few rings, one ring at a time."""
     a, b, prv, nxt = [], [], [], []
     off = 0
-    for ring in shapely.get_rings(shapely.get_parts(S)):
+    for ring in rings:
         c = shapely.get_coordinates(ring)[:, :2]
         keep = np.ones(len(c), dtype=bool)
         keep[1:] = np.any(c[1:] != c[:-1], axis=1)
@@ -262,12 +305,19 @@ class _Elements:
         self.n_seg, self.n_arc = len(a), len(ai)
         self.length = np.concatenate([np.hypot(*(seg[:, 1] - seg[:, 0]).T), r * np.abs(arc_sw)])
         self.tiny = np.where(self.length > 0, self.eps / np.maximum(self.length, 1e-300), 1.0)
-        self.tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1))) if len(a) else None
+        self._tree = None
         self._middles = None
         self._index = None
         # The edges that cannot cut an element: a segment's own edge, an arc's two edges.
         self.own = np.concatenate([np.stack([np.arange(len(a)), np.arange(len(a))], axis=1),
                                    np.stack([ai, nxt[ai]], axis=1)]) if len(a) else np.zeros((0, 2), np.int64)
+
+    @property
+    def tree(self):
+        """The edges in shapely's R-tree, built on first use (None if S has no edge)."""
+        if self._tree is None and len(self.a):
+            self._tree = shapely.STRtree(shapely.linestrings(np.stack([self.a, self.b], axis=1)))
+        return self._tree
 
     @property
     def middles(self) -> cKDTree:
@@ -280,12 +330,26 @@ class _Elements:
         """Points at parameters ``t`` of elements ``e``."""
         e = np.asarray(e, dtype=np.int64)
         t = np.asarray(t, dtype=float)
-        out = np.empty((len(e), 2))
         s = e < self.n_seg
+        n_s = int(np.count_nonzero(s))
+        if n_s == len(e):                                   # straight pieces only
+            p0 = self.seg[e, 0]
+            return p0 + t[:, None] * (self.seg[e, 1] - p0)
+        if n_s == 0:                                        # arcs only
+            return self._arc_points(e - self.n_seg, t)
+        out = np.empty((len(e), 2))
         out[s] = self.seg[e[s], 0] + t[s, None] * (self.seg[e[s], 1] - self.seg[e[s], 0])
-        k = e[~s] - self.n_seg
-        ang = self.arc_a0[k] + self.arc_sw[k] * t[~s]
-        out[~s] = self.arc_v[k] + self.r * np.column_stack([np.cos(ang), np.sin(ang)])
+        out[~s] = self._arc_points(e[~s] - self.n_seg, t[~s])
+        return out
+
+    def _arc_points(self, k, t) -> np.ndarray:
+        """Points at parameters ``t`` of arcs ``k``."""
+        ang = self.arc_a0[k] + self.arc_sw[k] * t
+        out = np.empty((len(k), 2))
+        out[:, 0] = np.cos(ang)
+        out[:, 1] = np.sin(ang)
+        out *= self.r
+        out += self.arc_v[k]
         return out
 
     def geoms(self, e, lo, hi):
@@ -337,12 +401,32 @@ class _Elements:
                 sa = arc[short]
                 sag = self.r * (1.0 - np.cos(0.5 * sweep[short]))
                 p, q = self.points(e[sa], lo[sa]), self.points(e[sa], hi[sa])
-                for group in _length_classes(sag, np.arange(len(sa))):
-                    dist = self.r + slack + float(sag[group].max()) * (1.0 + 1e-9)
-                    si, ej = self._index.near_segments(p[group], q[group], dist)
-                    pis.append(sa[group[si]]), pjs.append(ej)
+                groups = _length_classes(sag, np.arange(len(sa)))
+                dist = [self.r + slack + float(sag[group].max()) * (1.0 + 1e-9) for group in groups]
+                if len(sa) * len(self._index) <= _proximity._BOX_PAIRS:
+                    # Few pairs: one query, each chord at its group's distance (the same pairs).
+                    each = np.empty(len(sa))
+                    for group, d in zip(groups, dist):
+                        each[group] = d
+                    si, ej = self._index.near_segments(p, q, each)
+                    pis.append(sa[si]), pjs.append(ej)
+                else:
+                    for group, d in zip(groups, dist):
+                        si, ej = self._index.near_segments(p[group], q[group], d)
+                        pis.append(sa[group[si]]), pjs.append(ej)
                 arc = arc[~short]
-        if len(arc):
+        if len(arc) and len(arc) * len(self.a) <= _proximity._BOX_PAIRS:
+            # Few pairs: every edge whose box comes within r + slack of the arc's circle's box (more
+            # than the R-tree finds; the capsules of the others do not reach the arc: `_uncovered` takes
+            # nothing of it for them).
+            v = self.arc_v[e[arc] - self.n_seg]
+            pad = 2.0 * self.r + slack + 1e-9 * (self.r + float(np.abs(v).max()))
+            lo_e, hi_e = np.minimum(self.a, self.b), np.maximum(self.a, self.b)
+            hit = ((v[:, None, 0] - pad <= hi_e[None, :, 0]) & (v[:, None, 0] + pad >= lo_e[None, :, 0])
+                   & (v[:, None, 1] - pad <= hi_e[None, :, 1]) & (v[:, None, 1] + pad >= lo_e[None, :, 1]))
+            ai, ej = np.nonzero(hit)
+            pis.append(arc[ai]), pjs.append(ej.astype(np.int64))
+        elif len(arc):
             g, sag = self.geoms(e[arc], lo[arc], hi[arc])
             ai, ej = self.tree.query(g, predicate="dwithin", distance=self.r + sag + slack)
             pis.append(arc[ai]), pjs.append(ej)
@@ -389,13 +473,13 @@ class _Elements:
 
     def _edge_distance(self, xy, j):
         p, q = self.a[j], self.b[j]
-        v = q - p
-        L2 = (v * v).sum(axis=1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            u = np.clip(((xy - p) * v).sum(axis=1) / L2, 0.0, 1.0)
-        u = np.where(L2 > 0, u, 0.0)
-        f = p + u[:, None] * v
-        return np.hypot(xy[:, 0] - f[:, 0], xy[:, 1] - f[:, 1])
+        px, py = p[:, 0], p[:, 1]
+        vx, vy = q[:, 0] - px, q[:, 1] - py
+        L2 = vx * vx + vy * vy
+        u = np.zeros(len(L2))
+        np.divide((xy[:, 0] - px) * vx + (xy[:, 1] - py) * vy, L2, out=u, where=L2 > 0)
+        np.clip(u, 0.0, 1.0, out=u)
+        return np.hypot(xy[:, 0] - (px + u * vx), xy[:, 1] - (py + u * vy))
 
     def crowded(self, xy, reach) -> np.ndarray:
         """Whether more than `_FEW_EDGES` edges have their middle within ``reach`` of each point."""
@@ -563,10 +647,15 @@ def _dominated(X) -> np.ndarray:
     # Straight pieces: both ends in one capsule of a nearby edge.
     p0, p1 = X.seg[:, 0], X.seg[:, 1]
     fw = bw = np.arange(X.n_seg)
+    near = []
     for _ in range(2):
         fw, bw = X.nxt[fw], X.prv[bw]
-        for j in (fw, bw):
-            out[:X.n_seg] |= (X._edge_distance(p0, j) < rho) & (X._edge_distance(p1, j) < rho)
+        near += [fw, bw]
+    # The four neighbours' capsules in one call: both ends against each.
+    j = np.concatenate(near)
+    d = X._edge_distance(np.concatenate([np.tile(p0, (4, 1)), np.tile(p1, (4, 1))]), np.tile(j, 2)) < rho
+    d = d.reshape(2, 4, X.n_seg)
+    out[:X.n_seg] = (d[0] & d[1]).any(axis=0)
     if X.n_arc < 3:
         return out, lo, hi
     # Arcs: ρ-disks about the nearest undecided arc vertices along the ring.
@@ -818,8 +907,12 @@ def _on_pieces(X, el, lo, hi, xy, tol) -> np.ndarray:
     (farther than ``tol`` from its ends), exactly."""
     if len(xy) == 0 or len(el) == 0:
         return np.zeros(len(xy), dtype=bool)
-    g, sag = X.geoms(el, lo, hi)
-    pi, pj = shapely.STRtree(g).query(shapely.points(xy), predicate="dwithin", distance=tol + sag)
+    if len(xy) * len(el) <= _proximity._ALL_PAIRS:
+        # Few pairs: every point against every piece (each pair is measured exactly below).
+        pi, pj = _proximity._all_pairs(len(xy), len(el))
+    else:
+        g, sag = X.geoms(el, lo, hi)
+        pi, pj = shapely.STRtree(g).query(shapely.points(xy), predicate="dwithin", distance=tol + sag)
     if len(pi) == 0:
         return np.zeros(len(xy), dtype=bool)
     e, a, b = el[pj], lo[pj], hi[pj]
