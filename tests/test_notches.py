@@ -114,6 +114,26 @@ def test_a_tab_narrower_than_2r(w, h):
     assert _has(centres, 5 + w / 2, math.sqrt(r * r - w * w / 4)) and sides[i] == 1
 
 
+@pytest.mark.parametrize("init", ["core", "input", "mason"])
+def test_a_tab_wider_at_its_mouth_than_2r_rests_on_its_wall(init):
+    # A block's right wall bends slightly at (10, 4) and runs up to a tab 1.6 wide, (10.3, 9)–(8.7, 9),
+    # whose left wall comes down to (8.7, 6). The mouth (10, 4)–(8.7, 6) is √5.69 ≈ 2.39 wide: no disk of
+    # radius 1 passes through both. The core's corner there is the disk tangent to the bent wall, from
+    # inside, through the reflex corner (8.7, 6): centre P + s·u with P the wall's point (10, 4) moved by
+    # r along its inner normal, s the first root of |P + s·u − (8.7, 6)| = r.
+    r = 1.0
+    S = Polygon([(0, 0), (10, 0), (10, 4), (10.3, 9), (8.7, 9), (8.7, 6), (0, 6)])
+    T = _fast_and_right(S, r, init)
+    u = np.array([0.3, 5.0]) / math.hypot(0.3, 5.0)
+    P = np.array([10.0, 4.0]) + r * np.array([-u[1], u[0]])
+    q = P - (8.7, 6.0)
+    b, c = float(q @ u), float(q @ q) - r * r
+    E = P + (-b - math.sqrt(b * b - c)) * u
+    centres, sides = disks(T)
+    i = np.hypot(*(centres - E).T).argmin()
+    assert _has(centres, *E) and sides[i] == 1
+
+
 def test_cases_the_fast_path_declines():
     r = 1.0
     # Too shallow for E's bulge: 1.9 wide, E pokes 1 − sqrt(1 − 0.95²) = 0.69 above the mouth, the floor
@@ -123,6 +143,12 @@ def test_cases_the_fast_path_declines():
     S = Polygon([(0, 0), (4.8, 0), (4.8, 0.3), (5, 0.3), (5, 1), (5.5, 1), (5.5, 0.3), (12, 0.3), (12, 10),
                  (0, 10)])
     assert vt.tighten(S, r)._cache["_path"] == "general"
+    # A tab beside a notch that share a wall, both 1.5 wide with mouths √3.25 ≈ 1.80 wide: the disk through
+    # the tab's mouth, (7, 8) and (5.5, 7), reaches 0.5 into the notch (its centre (6.01, 7.86) is 0.51 from
+    # the notch's wall x = 5.5), so neither span's mouth disk is the answer.
+    S = Polygon([(0, 0), (12, 0), (12, 8), (7, 8), (7, 9), (5.5, 9), (5.5, 7), (4, 7), (4, 8), (0, 8)])
+    T = vt.tighten(S, r)
+    assert T._cache["_path"] == "general"
 
 
 @st.composite

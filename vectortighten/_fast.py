@@ -18,8 +18,10 @@ rests on both far ends, and a corner whose disk lies beyond its neighbours' comm
 Short edges between two corners of the same side are taken too (`_same_side_runs`): a run of such corners
 (a bevel, a round corner digitised by a few chords, a chamfered inner corner) becomes the one disk tangent
 to the edges on either side of it; a slot or a tab narrower than 2r, whose run turns through π, is spanned
-by the disk through its mouth's two corners, bridged like a step from their disks (which may slide along
-their walls). A run beside a step goes to the general engine. Whatever a moved disk or a span cuts from
+by the disk through its mouth's two corners (or, where the mouth is 2r or wider, by the disk tangent to
+one wall through the other mouth corner), bridged like a step from their disks (which may slide along
+their walls); a tab and a notch that share a wall are spanned as a chain. A run beside a step goes to the
+general engine. Whatever a moved disk or a span cuts from
 the offset curves is proven nearer than r to S's boundary (`_covered`), so none of it was on the shrink's
 (grow's) boundary.
 
@@ -638,10 +640,20 @@ def _circle_hit(base: np.ndarray, u: np.ndarray, x: np.ndarray, r: float, first:
 #   to S's boundary, which is checked exactly (`_covered`: the run's edges' whole offsets against the open
 #   capsules of the edges nearby; the arcs against the other corner's open disk).
 #
+#   A mouth 2r or wider (a building's end narrower than 2r whose one mouth corner is a slight bend farther
+#   along the wall) has no disk through both corners: E is then tangent to that wall, on side s, through
+#   the other mouth corner (where the wall's offset meets that corner's circle), the wall's offset kept up
+#   to E; what goes (the rest of the run's offsets, the wall's offset beyond E, the arc about the other
+#   corner up to E) is checked exactly by `_covered`.
+# * Chains: a tab and a notch that share a wall (the one's far mouth corner the other's first corner) are
+#   spanned one after the other, the loop running from one E straight to the next (`_span_chains`); each E
+#   through a mouth inside the chain is then checked like any other (a disk through both corners of such
+#   a mouth usually reaches into the other span, and the chain goes to the general engine).
+#
 # The dropped corners stay in the arrays as disks of sweep 0 at the merged centre (their edges of length 0,
 # leaving in the direction that arrives at the run), so every exact test reads them as points of the one
 # arc; `_Rings.keep` leaves them out of the loops. A run next to a step, or a notch whose mouth corner is
-# also another run's, goes to the general engine.
+# another run's otherwise, goes to the general engine.
 
 def _same_side_runs(D: _Rings) -> bool:
     """Merge every run of same-side short edges into one corner, or span it as a notch or tab (see above),
@@ -659,7 +671,6 @@ def _same_side_runs(D: _Rings) -> bool:
     for side in (1, -1):
         D.arcs(side)                                # cached about the original corners, before turns change
     keep = np.ones(len(D.v), bool)
-    mouth = np.zeros(len(D.v), bool)
     outer, notches = [], []
     for first in np.flatnonzero(inner & ~inner[prv]).tolist():
         run = [first]
@@ -685,9 +696,8 @@ def _same_side_runs(D: _Rings) -> bool:
                     break
                 run.append(Dv)
                 Dv = int(nxt[Dv])
-            if D.side[A] == s or D.side[Dv] == s or short[prv[A]] or short[Dv] or mouth[[A, Dv] + run].any():
+            if D.side[A] == s or D.side[Dv] == s:
                 return False
-            mouth[[A, Dv] + run] = True
             notches.append((A, run, Dv, s))
         keep[run[:-1]] = False
     if outer:
@@ -695,20 +705,56 @@ def _same_side_runs(D: _Rings) -> bool:
         D.length[e] = D.ell[e] - D.t[e] - D.t[nxt[e]]
         if (D.length[e] < -1e-12 * np.maximum(D.ell[e], r)).any():
             return False                            # a merged disk's tangent runs past its outer edge
+    chains = _span_chains(notches, short, prv)
+    if chains is None:
+        return False
     bridged = []
-    for A, run, Dv, s in notches:
-        if not _span_notch(D, A, run, Dv, s):
+    for chain in chains:
+        trims = _span_chain(D, chain)
+        if trims is None:
             return False
-        bridged += [A, run[-1]]
+        bridged += [chain[0][0]] + [run[-1] for _, run, _, _ in chain]
+        D.spans += trims
     D.keep = keep
     D.bridged = np.array(bridged, dtype=np.int64)
     D._sagitta = None
-    D.spans += [(int(s), [A] + run, run[-1]) for A, run, Dv, s in notches]
     return True
 
 
+def _span_chains(notches: list, short: np.ndarray, prv: np.ndarray):
+    """The notches and tabs grouped into chains, each span's far mouth corner the next one's first corner
+    and its last corner the next one's near mouth (a tab beside a notch that share a wall, a crenellation);
+    None if a chain's outer walls are short (a span beside a step or a merged run) or two spans share
+    corners otherwise."""
+    after = {}
+    for k, (A, run, Dv, s) in enumerate(notches):
+        after[(run[0], A)] = k                      # a span, by its first corner and its near mouth
+    nxt = [after.get((Dv, run[-1])) for A, run, Dv, s in notches]
+    has_prev = {k for k in nxt if k is not None}
+    used = np.zeros(len(short), bool)
+    chains, seen = [], 0
+    for k in range(len(notches)):
+        if k in has_prev:
+            continue
+        chain = [notches[k]]
+        while nxt[k] is not None:
+            k = nxt[k]
+            chain.append(notches[k])
+        A, Dv = chain[0][0], chain[-1][2]
+        if short[prv[A]] or short[Dv]:
+            return None
+        corners = [A, Dv] + [x for _, run, _, _ in chain for x in run]
+        if used[corners].any():
+            return None
+        used[corners] = True
+        chains.append(chain)
+        seen += len(chain)
+    # A ring of spans (each linked to the next all round) has no first: left to the general engine.
+    return chains if seen == len(notches) else None
+
+
 def _trim_spans(D: _Rings) -> None:
-    """The offsets on side s of a notch's (tab's) edges are gone, points at E (`_span_notch` checked that
+    """The offsets on side s of a notch's (tab's) edges are gone, points at E (`_span_chain` checked that
     every point of them is nearer than r to S's boundary). After the steps have moved their disks."""
     for s, edges, at in D.spans:
         a, b = D._offset_ends(s)
@@ -745,67 +791,142 @@ def _merge_run(D: _Rings, run: list, s: float, turn: float) -> bool:
     return True
 
 
-_GRAZING = 0.25       # a notch's disk E at least this × r beyond its mouth (`_span_notch`)
+_GRAZING = 0.25       # a notch's disk E at least this × r beyond its mouth (`_span_chain`)
 
 
-def _span_notch(D: _Rings, A: int, run: list, Dv: int, s: float) -> bool:
-    """The disk E through A and D on side s, bridged from A's disk and to D's (see above)."""
-    r, last = D.r, run[-1]
-    chord = D.v[Dv] - D.v[A]
-    w = math.hypot(chord[0], chord[1])
-    if not w < 2.0 * r * (1 - 1e-9):
-        return False
-    depth = math.sqrt(r * r - 0.25 * w * w)
-    if depth < _GRAZING * r:
-        # The circles about A and D cross at E at an angle of about 2·depth/r: the final check's coarse
-        # buffers misplace such a corner by their chords' sagitta over that angle, and would flag the
-        # exact answer. A mouth this close to 2r goes to the general engine.
-        return False
-    nl = np.array([-chord[1], chord[0]]) / w
-    E = 0.5 * (D.v[A] + D.v[Dv]) + (s * depth) * nl
-    # A's and D's own disks touch the edges into the notch, or slide along the walls until they meet the
-    # run's end corners (`_slide_mouth`).
-    for X, wall, corner, forward in ((A, int(D.prev[A]), run[0], True), (Dv, Dv, last, False)):
-        if D.t[X] > D.ell[A if forward else last] and not _slide_mouth(D, X, wall, corner, forward):
-            return False
-    for e in (int(D.prev[A]), Dv):
+def _span_chain(D: _Rings, chain: list):
+    """Span each notch or tab of a chain (see above) by a disk E on its side s; the loop runs from the
+    first A's own disk on inner tangents through every E to the last D's own disk. In place; the offsets
+    to trim (`_Rings.spans` entries), or None if some part does not fit.
+
+    E passes through the mouth's corners A and D when they are less than 2r apart. Else, at an outer end
+    of the chain, E is the disk tangent to that end's wall into the span (the edge from A, or the edge to
+    D) through the mouth's other corner: the corner of the shrink (grow) where the wall's offset meets that
+    corner's circle, the wall's offset kept up to it.
+    """
+    r = D.r
+    disks, trims = [], []
+    for k, (A, run, Dv, s) in enumerate(chain):
+        chord = D.v[Dv] - D.v[A]
+        w = math.hypot(chord[0], chord[1])
+        if w < 2.0 * r * (1 - 1e-9):
+            depth = math.sqrt(r * r - 0.25 * w * w)
+            if depth < _GRAZING * r:
+                # The circles about A and D cross at E at an angle of about 2·depth/r: the final check's
+                # coarse buffers misplace such a corner by their chords' sagitta over that angle, and would
+                # flag the exact answer. A mouth this close to 2r goes to the general engine.
+                return None
+            nl = np.array([-chord[1], chord[0]]) / w
+            disks.append((0.5 * (D.v[A] + D.v[Dv]) + (s * depth) * nl, ("mouth", nl, depth)))
+            trims.append((int(s), [A] + run, run[-1]))
+            continue
+        wide = None
+        for wall, through, forward in ((A, Dv, True), (run[-1], A, False)):
+            if (k > 0 if forward else k < len(chain) - 1):
+                continue                            # a mouth inside the chain has no wall of its own
+            base = D.v[wall] + s * r * D.n[wall]
+            x = _circle_hit(base, D.u[wall], D.v[through], r, first=forward)
+            if x is not None and 0.0 <= x <= D.ell[wall]:
+                wide = (base + x * D.u[wall], wall, through, forward)
+                break
+        if wide is None:
+            return None
+        E, wall, through, forward = wide
+        # The wall's offset ends (begins) at E, where the first (last) corner's centre now is: its part
+        # beyond E goes, with the offsets of the span's other edges.
+        raw = D.v[D.next[wall]] + s * r * D.n[wall] if forward else D.v[wall] + s * r * D.n[wall]
+        beyond = ("seg", (E, raw) if forward else (raw, E), forward, not forward, (int(wall),))
+        disks.append((E, ("wall", wall, through, forward, beyond)))
+        trims.append((int(s), run if forward else [A] + run[:-1], run[-1]))
+    # The outer mouth corners' own disks touch the edges into the chain, or slide along their walls until
+    # they meet the first (last) run's end corner (`_slide_mouth`). The mouths inside a chain are corners
+    # of the next (previous) span's run: their disks are not on the loop.
+    A0, first_run = chain[0][0], chain[0][1]
+    Dn, last_run = chain[-1][2], chain[-1][1]
+    for X, wall, corner, forward in ((A0, int(D.prev[A0]), first_run[0], True), (Dn, Dn, last_run[-1], False)):
+        if D.t[X] > D.ell[A0 if forward else last_run[-1]] and not _slide_mouth(D, X, wall, corner, forward):
+            return None
+    for e in (int(D.prev[A0]), Dn):
         D.length[e] = D.ell[e] - D.t[e] - D.t[D.next[e]]
         if D.length[e] < -1e-12 * max(D.ell[e], r):
-            return False
-    # The trimmed pieces of side s: every point nearer than r to S's boundary.
-    edges = [A] + run                               # the edges from A to D
-    if not _covered(D, _whole_offsets(D, edges, s)):
-        return False
-    centres, start, sweep = D.arcs(int(s))
-    k_of = np.cumsum(D.side != s) - 1               # index of a vertex's arc on side s
-    beta = math.acos(min(1.0, 0.5 * w / r))         # the arc about A inside D's open disk: ±β about A→D
-    for X, Y, keep_first in ((A, Dv, True), (Dv, A, False)):
-        n = int(k_of[X])
-        cut = _arc_cut(float(start[n]), float(sweep[n]), math.atan2(*(E - D.v[X])[::-1]), keep_first,
-                       math.atan2(*(D.v[Y] - D.v[X])[::-1]), beta)
-        if cut is None:
-            return False                            # not all of it in the other corner's open disk
-        start[n], sweep[n] = cut
-    # The bridges: inner tangents, A's disk to E and E to D's.
-    w1, w2 = E - D.c[A], D.c[Dv] - E
-    d1, d2 = math.hypot(w1[0], w1[1]), math.hypot(w2[0], w2[1])
-    if not (d1 > 2.0 * r * (1 + 1e-9) and d2 > 2.0 * r * (1 + 1e-9)):
-        return False
-    phi1 = math.atan2(w1[1], w1[0]) + D.side[A] * math.asin(2.0 * r / d1)
-    phi2 = math.atan2(w2[1], w2[0]) + s * math.asin(2.0 * r / d2)
-    tA, tE, tD = _wrap(phi1 - D.phi[D.prev[A]]), _wrap(phi2 - phi1), _wrap(D.phi[Dv] - phi2)
-    if not (tA * D.side[A] > 0 and tE * s > 0 and tD * D.side[Dv] > 0):
-        return False
-    # E's arc runs between A and D, on the far side of the chord: where E's disk touches the grow's corner.
-    for phi in (phi1, phi2):
-        if not -math.sin(phi) * nl[0] + math.cos(phi) * nl[1] > depth / r:
-            return False
-    D.c[run] = E
-    D.phi[A], D.length[A], D.theta[A] = phi1, math.sqrt(d1 * d1 - 4 * r * r), tA
-    D.phi[run[:-1]], D.length[run[:-1]], D.theta[run[:-1]] = phi1, 0.0, 0.0
-    D.phi[last], D.length[last], D.theta[last] = phi2, math.sqrt(d2 * d2 - 4 * r * r), tE
-    D.theta[Dv] = tD
-    return True
+            return None
+    # What the spans trim from side s must be nearer than r to S's boundary: the edges' whole offsets, the
+    # part of a wall's offset beyond E, and the arcs about the mouth corners up to E — these checked
+    # exactly (`_covered`), or, for a mouth narrower than 2r, shown to lie in the other corner's open disk.
+    pieces = []
+    for (A, run, Dv, s), (E, how), (_, edges, _) in zip(chain, disks, trims, strict=True):
+        pieces += _whole_offsets(D, edges, s)
+        centres, start, sweep = D.arcs(int(s))
+        k_of = np.cumsum(D.side != s) - 1           # index of a vertex's arc on side s
+        if how[0] == "mouth":
+            w = math.hypot(*(D.v[Dv] - D.v[A]))
+            beta = math.acos(min(1.0, 0.5 * w / r))     # the arc about A inside D's open disk: ±β about A→D
+            for X, Y, keep_first in ((A, Dv, True), (Dv, A, False)):
+                n = int(k_of[X])
+                cut = _arc_cut(float(start[n]), float(sweep[n]), math.atan2(*(E - D.v[X])[::-1]), keep_first,
+                               math.atan2(*(D.v[Y] - D.v[X])[::-1]), beta)
+                if cut is None:
+                    return None                     # not all of it in the other corner's open disk
+                start[n], sweep[n] = cut
+        else:
+            _, wall, through, forward, beyond = how
+            pieces.append(beyond)
+            # The arc about the other corner: kept from E on (after E when the wall is A's).
+            n = int(k_of[through])
+            a0, sw = float(start[n]), float(sweep[n])
+            at = _wrap(math.atan2(*(E - D.v[through])[::-1]) - a0)
+            if at * sw < 0 or abs(at) > abs(sw):
+                return None
+            own = (int(D.prev[through]), int(through))
+            if forward:                             # the part before E goes
+                pieces.append(("arc", (D.v[through], a0, at), False, True, own))
+                start[n], sweep[n] = a0 + at, sw - at
+            else:                                   # the part after E goes
+                pieces.append(("arc", (D.v[through], a0 + at, sw - at), True, False, own))
+                sweep[n] = at
+    if not _covered(D, pieces):
+        return None
+    # The bridges: inner tangents from each disk to the next, A0's, every E, Dn's (their sides alternate).
+    centres = [D.c[A0]] + [E for E, _ in disks] + [D.c[Dn]]
+    sides = [float(D.side[A0])] + [s for _, _, _, s in chain] + [float(D.side[Dn])]
+    phis, lengths = [], []
+    for k in range(len(centres) - 1):
+        u = centres[k + 1] - centres[k]
+        d = math.hypot(u[0], u[1])
+        if not d > 2.0 * r * (1 + 1e-9):
+            return None
+        phis.append(math.atan2(u[1], u[0]) + sides[k] * math.asin(2.0 * r / d))
+        lengths.append(math.sqrt(d * d - 4 * r * r))
+    # The turn at every disk of the chain, each the way of its side.
+    turns = [_wrap(phis[0] - D.phi[D.prev[A0]])] + [_wrap(phis[k + 1] - phis[k]) for k in range(len(chain))] \
+        + [_wrap(D.phi[Dn] - phis[-1])]
+    if not all(t * sd > 0 for t, sd in zip(turns, sides, strict=True)):
+        return None
+    # Each E's arc runs where E's disk touches the grow's (shrink's) corner: between its contacts.
+    for k, ((E, how), (A, run, Dv, s)) in enumerate(zip(disks, chain, strict=True)):
+        if how[0] == "mouth":
+            _, nl, depth = how
+            for phi in (phis[k], phis[k + 1]):
+                if not -math.sin(phi) * nl[0] + math.cos(phi) * nl[1] > depth / r:
+                    return None
+            continue
+        _, wall, through, forward, _ = how
+        foot = math.atan2(*(-s * D.n[wall])[::-1])
+        corner = math.atan2(*(D.v[through] - E)[::-1])
+        lo, hi = (foot, corner) if forward else (corner, foot)
+        span = (s * (hi - lo)) % _TWO_PI
+        for phi in (phis[k], phis[k + 1]):
+            touch = math.atan2(*(-s * np.array([-math.sin(phi), math.cos(phi)]))[::-1])
+            at = (s * (touch - lo)) % _TWO_PI
+            if not (at <= span + 1e-9 or at >= _TWO_PI - 1e-9):
+                return None
+    D.phi[A0], D.length[A0], D.theta[A0] = phis[0], lengths[0], turns[0]
+    for k, ((_, run, _, _), (E, _)) in enumerate(zip(chain, disks, strict=True)):
+        D.c[run] = E
+        D.phi[run[:-1]], D.length[run[:-1]], D.theta[run[:-1]] = phis[k], 0.0, 0.0
+        D.phi[run[-1]], D.length[run[-1]], D.theta[run[-1]] = phis[k + 1], lengths[k + 1], turns[k + 1]
+    D.theta[Dn] = turns[-1]
+    return trims
 
 
 def _arc_cut(start: float, sweep: float, at: float, keep_first: bool, toward: float, beta: float):
