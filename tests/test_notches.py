@@ -134,6 +134,23 @@ def test_a_tab_wider_at_its_mouth_than_2r_rests_on_its_wall(init):
     assert _has(centres, *E) and sides[i] == 1
 
 
+@pytest.mark.parametrize("init", ["core", "input", "mason"])
+def test_a_tab_beside_a_notch_rests_on_their_shared_wall(init):
+    # A crenellation on the top wall of a 12 × 8 block: a tab 1.5 wide and 1 high, (7, 8)–(5.5, 9), and at
+    # once a notch 1.5 wide and 1 deep, (5.5, 7)–(4, 8), sharing the wall x = 5.5. The disk through the
+    # tab's mouth, (7, 8) and (5.5, 7), would reach 0.5 into the notch (its centre (6.01, 7.86) is 0.51 from
+    # the wall). The core's corner is the disk tangent to the shared wall from inside, through (7, 8):
+    # centre (6.5, 8 − √0.75); the anticore's, tangent to it from outside through (4, 8): (4.5, 8 + √0.75).
+    # The loop runs up the shared wall between them.
+    r = 1.0
+    S = Polygon([(0, 0), (12, 0), (12, 8), (7, 8), (7, 9), (5.5, 9), (5.5, 7), (4, 7), (4, 8), (0, 8)])
+    T = _fast_and_right(S, r, init)
+    centres, sides = disks(T)
+    for (x, y), side in (((6.5, 8 - math.sqrt(0.75)), 1), ((4.5, 8 + math.sqrt(0.75)), -1)):
+        i = np.hypot(centres[:, 0] - x, centres[:, 1] - y).argmin()
+        assert _has(centres, x, y) and sides[i] == side
+
+
 def test_cases_the_fast_path_declines():
     r = 1.0
     # Too shallow for E's bulge: 1.9 wide, E pokes 1 − sqrt(1 − 0.95²) = 0.69 above the mouth, the floor
@@ -143,12 +160,6 @@ def test_cases_the_fast_path_declines():
     S = Polygon([(0, 0), (4.8, 0), (4.8, 0.3), (5, 0.3), (5, 1), (5.5, 1), (5.5, 0.3), (12, 0.3), (12, 10),
                  (0, 10)])
     assert vt.tighten(S, r)._cache["_path"] == "general"
-    # A tab beside a notch that share a wall, both 1.5 wide with mouths √3.25 ≈ 1.80 wide: the disk through
-    # the tab's mouth, (7, 8) and (5.5, 7), reaches 0.5 into the notch (its centre (6.01, 7.86) is 0.51 from
-    # the notch's wall x = 5.5), so neither span's mouth disk is the answer.
-    S = Polygon([(0, 0), (12, 0), (12, 8), (7, 8), (7, 9), (5.5, 9), (5.5, 7), (4, 7), (4, 8), (0, 8)])
-    T = vt.tighten(S, r)
-    assert T._cache["_path"] == "general"
 
 
 @st.composite

@@ -646,9 +646,10 @@ def _circle_hit(base: np.ndarray, u: np.ndarray, x: np.ndarray, r: float, first:
 #   to E; what goes (the rest of the run's offsets, the wall's offset beyond E, the arc about the other
 #   corner up to E) is checked exactly by `_covered`.
 # * Chains: a tab and a notch that share a wall (the one's far mouth corner the other's first corner) are
-#   spanned one after the other, the loop running from one E straight to the next (`_span_chains`); each E
-#   through a mouth inside the chain is then checked like any other (a disk through both corners of such
-#   a mouth usually reaches into the other span, and the chain goes to the general engine).
+#   spanned one after the other, the loop running from one E straight to the next (`_span_chains`). A disk
+#   through both corners of a mouth inside the chain usually reaches into the other span; the disks
+#   tangent to the shared wall, from either side, through the far corners, are the corners of the shrink
+#   and the grow there (`_span_chain` takes the first candidate whose centre is r from every edge).
 #
 # The dropped corners stay in the arrays as disks of sweep 0 at the merged centre (their edges of length 0,
 # leaving in the direction that arrives at the run), so every exact test reads them as points of the one
@@ -799,45 +800,48 @@ def _span_chain(D: _Rings, chain: list):
     first A's own disk on inner tangents through every E to the last D's own disk. In place; the offsets
     to trim (`_Rings.spans` entries), or None if some part does not fit.
 
-    E passes through the mouth's corners A and D when they are less than 2r apart. Else, at an outer end
-    of the chain, E is the disk tangent to that end's wall into the span (the edge from A, or the edge to
-    D) through the mouth's other corner: the corner of the shrink (grow) where the wall's offset meets that
-    corner's circle, the wall's offset kept up to it.
+    E is the first of these whose centre is r or more from every edge of S (a corner of the shrink, or of
+    the grow): the disk through the mouth's corners A and D, when they are less than 2r apart; the disk
+    tangent to the wall from A into the span, through D; the disk tangent to the wall into D, through A.
+    A wall-tangent disk is where the wall's offset meets the other corner's circle, the wall's offset kept
+    up to it. (In a chain, the wall between two spans is both the one's wall into D and the next one's
+    wall from A: a crenellation's disks rest on it from either side.)
     """
     r = D.r
+    limit = r - D.tie
     disks, trims = [], []
-    for k, (A, run, Dv, s) in enumerate(chain):
+    for A, run, Dv, s in chain:
         chord = D.v[Dv] - D.v[A]
         w = math.hypot(chord[0], chord[1])
-        if w < 2.0 * r * (1 - 1e-9):
+        found = None
+        # The circles about A and D cross at E at an angle of about 2·depth/r: for a depth below _GRAZING·r
+        # the final check's coarse buffers misplace such a corner by their chords' sagitta over that angle,
+        # and would flag the exact answer: no disk through a mouth that close to 2r.
+        if w < 2.0 * r * (1 - 1e-9) and math.sqrt(r * r - 0.25 * w * w) >= _GRAZING * r:
             depth = math.sqrt(r * r - 0.25 * w * w)
-            if depth < _GRAZING * r:
-                # The circles about A and D cross at E at an angle of about 2·depth/r: the final check's
-                # coarse buffers misplace such a corner by their chords' sagitta over that angle, and would
-                # flag the exact answer. A mouth this close to 2r goes to the general engine.
-                return None
             nl = np.array([-chord[1], chord[0]]) / w
-            disks.append((0.5 * (D.v[A] + D.v[Dv]) + (s * depth) * nl, ("mouth", nl, depth)))
-            trims.append((int(s), [A] + run, run[-1]))
-            continue
-        wide = None
+            E = 0.5 * (D.v[A] + D.v[Dv]) + (s * depth) * nl
+            if not _closer_than(D, E[None], E[None], limit):
+                found = (E, ("mouth", nl, depth), [A] + run)
         for wall, through, forward in ((A, Dv, True), (run[-1], A, False)):
-            if (k > 0 if forward else k < len(chain) - 1):
-                continue                            # a mouth inside the chain has no wall of its own
+            if found is not None:
+                break
             base = D.v[wall] + s * r * D.n[wall]
             x = _circle_hit(base, D.u[wall], D.v[through], r, first=forward)
-            if x is not None and 0.0 <= x <= D.ell[wall]:
-                wide = (base + x * D.u[wall], wall, through, forward)
-                break
-        if wide is None:
+            if x is None or not 0.0 <= x <= D.ell[wall]:
+                continue
+            E = base + x * D.u[wall]
+            if _closer_than(D, E[None], E[None], limit):
+                continue
+            # The wall's offset ends (begins) at E, where the first (last) corner's centre now is: its part
+            # beyond E goes, with the offsets of the span's other edges.
+            raw = D.v[D.next[wall]] + s * r * D.n[wall] if forward else D.v[wall] + s * r * D.n[wall]
+            beyond = ("seg", (E, raw) if forward else (raw, E), forward, not forward, (int(wall),))
+            found = (E, ("wall", wall, through, forward, beyond), run if forward else [A] + run[:-1])
+        if found is None:
             return None
-        E, wall, through, forward = wide
-        # The wall's offset ends (begins) at E, where the first (last) corner's centre now is: its part
-        # beyond E goes, with the offsets of the span's other edges.
-        raw = D.v[D.next[wall]] + s * r * D.n[wall] if forward else D.v[wall] + s * r * D.n[wall]
-        beyond = ("seg", (E, raw) if forward else (raw, E), forward, not forward, (int(wall),))
-        disks.append((E, ("wall", wall, through, forward, beyond)))
-        trims.append((int(s), run if forward else [A] + run[:-1], run[-1]))
+        disks.append(found[:2])
+        trims.append((int(s), found[2], run[-1]))
     # The outer mouth corners' own disks touch the edges into the chain, or slide along their walls until
     # they meet the first (last) run's end corner (`_slide_mouth`). The mouths inside a chain are corners
     # of the next (previous) span's run: their disks are not on the loop.
