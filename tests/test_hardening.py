@@ -661,18 +661,25 @@ def _slow_shapes(folder, n=6):
 
 
 def test_ctrl_c_stops_a_batch_and_writes_nothing_after(tmp_path):
+    # Sixty shapes of some 0.4 s each: the batch is still running when its first file is written, whatever
+    # the engine's speed; the Ctrl-C comes then (not after a fixed time, which a faster engine outran).
     src, out = tmp_path / "in", tmp_path / "out"
     src.mkdir()
     out.mkdir()
-    _slow_shapes(src)
+    n = 60
+    _slow_shapes(src, n)
     p = subprocess.Popen([sys.executable, "-m", "vectortighten", "tighten", str(src), "-r", "0.3", "-o",
                           str(out), "-j", "2"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                          start_new_session=True)
-    time.sleep(5)                            # the workers are busy with their first files
+    deadline = time.monotonic() + 60
+    while not any(f.suffix == ".wkt" and not f.name.startswith(".") for f in out.iterdir()) \
+            and time.monotonic() < deadline:
+        time.sleep(0.02)                     # the workers are busy with their first files
     os.killpg(p.pid, signal.SIGINT)          # Ctrl-C at a terminal reaches the whole process group
     _, err = p.communicate(timeout=60)
     assert p.returncode == 130 and "interrupted" in err.decode()
     written = {f.name: f.stat().st_mtime_ns for f in out.iterdir()}
+    assert 0 < len(written) < n
     time.sleep(2)
     assert {f.name: f.stat().st_mtime_ns for f in out.iterdir()} == written
     assert not [f for f in out.iterdir() if f.name.startswith(".")]       # no temporary file left
