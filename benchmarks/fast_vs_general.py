@@ -16,11 +16,13 @@ descend in staircases of random treads and risers, right-angled or slanted: runs
 between two steps), ``features`` (blocks whose corners are bevelled, rounded by a few chords or left
 sharp, and whose walls carry notches and tabs, square or tapered, of widths and depths from 0.1 to 3,
 slight bends, and steps out and back: the shapes of cut parts and plans, drawn without looking at which
-the fast path takes).
+the fast path takes), ``slots`` (the same blocks whose walls carry notches and tabs as real outlines draw
+them: walls bent slightly part way, flared mouths, one wall ending at a ledge; `slot_wall`).
 
 Run:  python benchmarks/fast_vs_general.py footprints --n 300 --seeds 0 1 --radii 0.5 1 2
       python benchmarks/fast_vs_general.py stairs --n 60 --radii 0.3 0.6 1
       python benchmarks/fast_vs_general.py features --n 200 --seeds 0 1 --radii 0.3 0.7 1.5
+      python benchmarks/fast_vs_general.py slots --n 100 --seeds 0 1 --radii 0.3 0.7 1.5
 (``--root`` imports ``vectortighten`` from another source tree.)
 """
 
@@ -103,6 +105,46 @@ def wall(rng: np.random.Generator, length: float) -> np.ndarray:
     return np.array(pts)
 
 
+def slot_wall(rng: np.random.Generator, length: float) -> np.ndarray:
+    """A wall's profile as `wall`'s, whose features (2–5 apart) are notches and tabs 0.3–3 wide and 0.3–4 deep drawn
+    the ways real outlines draw them: walls with a slight bend (either way, up to 12°) part way along, a
+    mouth flared over its first 0.2–1.5, or one wall ending at a ledge 0.2–2 off the wall's line (the
+    wall goes on from there)."""
+    pts, x, base = [(0.0, 0.0)], 2.0, 0.0
+    while True:
+        width = rng.uniform(0.3, 3.0)
+        if x + width + 3.0 > length:
+            break
+        depth = rng.uniform(0.3, 4.0) * rng.choice([-1.0, 1.0])
+        kind = rng.choice(["bent", "flared", "ledge"])
+        if kind == "bent":
+            # Each wall bends at a fraction of the depth by a slight angle: a sideways offset of the rest.
+            f0, f1 = rng.uniform(0.2, 0.8, 2)
+            d0, d1 = (rng.uniform(-0.2, 0.2, 2) * abs(depth))
+            pts += [(x, base), (x, base + f0 * depth), (x + d0, base + depth),
+                    (x + width + d1, base + depth), (x + width, base + f1 * depth), (x + width, base)]
+        elif kind == "flared":
+            flare, wide = rng.uniform(0.2, 1.5), rng.uniform(0.05, 0.6)
+            flare = min(flare, 0.9 * abs(depth))
+            pts += [(x - wide, base), (x, base + math.copysign(flare, depth)), (x, base + depth),
+                    (x + width, base + depth), (x + width, base + math.copysign(flare, depth)),
+                    (x + width + wide * rng.uniform(0, 1.5), base)]
+        else:
+            ledge = rng.uniform(0.2, 2.0) * rng.choice([-1.0, 1.0])
+            if abs(ledge - depth) < 0.2:
+                ledge = -ledge
+            pts += [(x, base), (x, base + depth), (x + width, base + depth), (x + width, base + ledge)]
+            base += ledge
+        x += width + rng.uniform(2.0, 5.0)
+        if kind == "ledge" and rng.random() < 0.5 or abs(base) > 3.0:
+            pts += [(x, base), (x, 0.0)]            # back to the wall's line
+            base = 0.0
+            x += rng.uniform(2.0, 5.0)
+    pts += [(length - 1.0, base), (length - 1.0, 0.0)] if base else []
+    pts.append((length, 0.0))
+    return np.array(pts)
+
+
 def corner(rng: np.random.Generator, prev: np.ndarray, at: np.ndarray, nxt: np.ndarray) -> list:
     """A corner left sharp, bevelled (legs 0.05–1.5) or rounded by 2–5 chords (radius 0.2–1.5)."""
     kind = rng.choice(["sharp", "bevel", "round"])
@@ -121,9 +163,10 @@ def corner(rng: np.random.Generator, prev: np.ndarray, at: np.ndarray, nxt: np.n
             for j in range(k + 1)]
 
 
-def featured(n: int, seed: int = 0):
-    """Blocks 10–30 on a side with featured walls and corners (`wall`, `corner`), turned by a random
-    angle; the largest polygon of their repair where features cross."""
+def featured(n: int, seed: int = 0, profile=None):
+    """Blocks 10–30 on a side with featured walls and corners (`wall`, or ``profile``, and `corner`),
+    turned by a random angle; the largest polygon of their repair where features cross."""
+    profile = profile or wall
     rng = np.random.default_rng(seed)
     for _ in range(n):
         w, h = rng.uniform(10, 30, 2)
@@ -133,7 +176,7 @@ def featured(n: int, seed: int = 0):
             (x0, y0), (x1, y1) = box[i], box[(i + 1) % 4]
             L = math.hypot(x1 - x0, y1 - y0)
             ux, uy = (x1 - x0) / L, (y1 - y0) / L
-            p = wall(rng, L)
+            p = profile(rng, L)
             # Outwards is to the right of a counter-clockwise wall.
             ring.append(np.column_stack([x0 + p[:, 0] * ux + p[:, 1] * uy, y0 + p[:, 0] * uy - p[:, 1] * ux])[:-1])
         pts = np.concatenate(ring)
@@ -150,7 +193,7 @@ def featured(n: int, seed: int = 0):
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("set", choices=["footprints", "stairs", "features"])
+    ap.add_argument("set", choices=["footprints", "stairs", "features", "slots"])
     ap.add_argument("--n", type=int, default=300)
     ap.add_argument("--seeds", type=int, nargs="+", default=[0])
     ap.add_argument("--radii", type=float, nargs="+", default=[1.0])
@@ -168,7 +211,7 @@ def main() -> None:
     paths, bad, t0 = collections.Counter(), [], time.process_time()
     for seed in args.seeds:
         make = {"footprints": lambda: bench_geo.footprints(args.n, seed=seed), "stairs": lambda: stairs(args.n, seed),
-                "features": lambda: featured(args.n, seed)}
+                "features": lambda: featured(args.n, seed), "slots": lambda: featured(args.n, seed, slot_wall)}
         shapes = make[args.set]()
         for k, S in enumerate(shapes):
             for r in args.radii:

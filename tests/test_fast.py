@@ -258,6 +258,28 @@ def test_exact_distance_tests_of_few_pieces_agree_with_their_searches(seed, n_ed
                                 bool((to_arcs < limit).any()))
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_closer_than_finds_long_edges_near_a_point(seed):
+    # Points alone (p = q, as the disk centres are tested), each on its own, against the long edges of a
+    # 24-gon (every edge longer than r/8, so the large-shape path sends them all to its STRtree): the
+    # answer of the all-pairs path and of the distances themselves. A point was once probed as a segment
+    # of length 0, which the tree matches to nothing.
+    rng = np.random.default_rng(seed)
+    th = np.sort(rng.uniform(0, 2 * np.pi, 24))
+    S = Polygon(np.column_stack([4 * np.cos(th), 4 * np.sin(th)]) * rng.uniform(0.8, 1.2, (24, 1)))
+    D = _fast._Rings(S, 1.0)                         # in S's own frame: r = 1
+    p = rng.uniform(-5, 5, (60, 2))
+    d = np.array([_fast._segment_distances(np.repeat(x[None], len(D.v), 0), np.repeat(x[None], len(D.v), 0),
+                                           D.v, D.v[D.next]).min() for x in p])
+    p, d = p[np.abs(d - 1.0) > 1e-6], d[np.abs(d - 1.0) > 1e-6]
+    assert (d < 1.0).sum() > 5 and (d > 1.0).sum() > 5
+    for few in (_fast._ALL_PAIRS, 0):
+        with pytest.MonkeyPatch.context() as m:
+            m.setattr(_fast, "_ALL_PAIRS", few)
+            got = [_fast._closer_than(D, x[None], x[None], 1.0) for x in p]
+        assert got == (d < 1.0).tolist()
+
+
 @pytest.mark.parametrize("pieces_per_side", [5, 50, 500])
 def test_separated_finds_a_far_side_of_a_thin_ring(pieces_per_side):
     # A 100 × 0.01 rectangle cut into many pieces: the two long sides are 0.01 apart and far apart along

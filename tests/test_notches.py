@@ -151,6 +151,59 @@ def test_a_tab_beside_a_notch_rests_on_their_shared_wall(init):
         assert _has(centres, x, y) and sides[i] == side
 
 
+@pytest.mark.parametrize("init", ["core", "input", "mason"])
+def test_a_slot_whose_walls_bend_slightly_is_spanned_at_its_true_mouth(init):
+    # A slot 1.5–1.6 wide and 3 deep whose walls bend by 3.8° half way up, both to the left as one walks
+    # the ring (convex bends in a notch of reflex corners). The bends are not its mouth: the disk through
+    # them, 0.66 below their middle, is 0.75 from either wall. E passes through the true mouth corners
+    # (5, 0) and (6.6, 0), 1.6 apart: centre (5.8, −sqrt(r² − 0.8²)) = (5.8, −0.6). The bends' own disks
+    # are passed by.
+    r = 1.0
+    S = Polygon([(0, 0), (5, 0), (5, 1.5), (4.9, 3), (6.5, 3), (6.5, 1.5), (6.6, 0), (12, 0), (12, 10),
+                 (0, 10)])
+    T = _fast_and_right(S, r, init)
+    centres, sides = disks(T)
+    assert len(centres) == 7                        # 4 block corners, 2 mouth corners, E
+    assert _has(centres, 5.8, -0.6) and sides[np.hypot(*(centres - (5.8, -0.6)).T).argmin()] == -1
+
+
+@pytest.mark.parametrize("init", ["core", "input", "mason"])
+def test_a_notch_rests_on_the_wall_beyond_its_mouth(init):
+    # A channel 1.6 wide between x = 0 and x = 1.6 whose right wall ends at the convex corner A = (1.6, 2.3)
+    # and whose left wall bends slightly at D = (0, 1.8) and runs on up to (−0.1, 3.5). Through A and D no
+    # disk clears both walls (the channel is narrower than 2r). The anticore's corner is the disk tangent
+    # to the wall beyond D, from the channel's side, through A: centre P + x·u with P = D moved by r off
+    # that wall, x the larger root of |P + x·u − A| = r. D's own disk is passed by.
+    r = 1.0
+    S = Polygon([(10, 2.3), (1.6, 2.3), (1.6, 0), (0, 0), (0, 1.8), (-0.1, 3.5), (-0.1, 7), (-5, 7), (-5, -3),
+                 (10, -3)])
+    T = _fast_and_right(S, r, init)
+    u = np.array([-0.1, 1.7]) / math.hypot(0.1, 1.7)
+    P = np.array([0.0, 1.8]) + r * np.array([u[1], -u[0]])
+    q = P - (1.6, 2.3)
+    b, c = float(q @ u), float(q @ q) - r * r
+    E = P + (-b + math.sqrt(b * b - c)) * u
+    centres, sides = disks(T)
+    assert _has(centres, *E) and sides[np.hypot(*(centres - E).T).argmin()] == -1
+    assert len(centres) == 8                        # D's own disk (inside S, beside it) is not on the loop
+    assert not ((np.hypot(*(centres - (0.0, 1.8)).T) < 2 * r) & (sides == 1)).any()
+
+
+@pytest.mark.parametrize("init", ["core", "input", "mason"])
+def test_a_slot_with_a_flared_mouth_is_spanned_by_the_disk_tangent_to_both_flares(init):
+    # A slot 1.2 wide whose walls flare out over their last 1.5 to a mouth (5, 0)–(7, 0) exactly 2r wide. The
+    # disk tangent to both flares, outside S, sits on the slot's axis where its distance to the left flare
+    # (through (5, 0), direction (0.4, 1.5)) is r: |1.5·1 − 0.4·y| = sqrt(0.4² + 1.5²), y = −0.1309. The loop
+    # reaches it from the mouth corners' disks on inner tangents (its feet lie before their tangent points).
+    r = 1.0
+    S = Polygon([(0, 0), (5, 0), (5.4, 1.5), (5.4, 3), (6.6, 3), (6.6, 1.5), (7, 0), (12, 0), (12, 10), (0, 10)])
+    T = _fast_and_right(S, r, init)
+    y = (1.5 - math.hypot(0.4, 1.5)) / 0.4
+    centres, sides = disks(T)
+    assert _has(centres, 6.0, y) and sides[np.hypot(*(centres - (6.0, y)).T).argmin()] == -1
+    assert len(centres) == 7
+
+
 def test_cases_the_fast_path_declines():
     r = 1.0
     # Too shallow for E's bulge: 1.9 wide, E pokes 1 − sqrt(1 − 0.95²) = 0.69 above the mouth, the floor

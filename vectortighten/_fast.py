@@ -20,10 +20,11 @@ Short edges between two corners of the same side are taken too (`_same_side_runs
 to the edges on either side of it; a slot or a tab narrower than 2r, whose run turns through π, is spanned
 by the disk through its mouth's two corners (or, where the mouth is 2r or wider, by the disk tangent to
 one wall through the other mouth corner), bridged like a step from their disks (which may slide along
-their walls); a tab and a notch that share a wall are spanned as a chain. A run beside a step goes to the
-general engine. Whatever a moved disk or a span cuts from
-the offset curves is proven nearer than r to S's boundary (`_covered`), so none of it was on the shrink's
-(grow's) boundary.
+their walls); a tab and a notch that share a wall are spanned as a chain. A lone notch or tab may also be
+spanned by the disk tangent to two of its walls, or resting on the wall beyond one mouth corner (which it
+passes by), and its mouth may lie past slight bends of its walls. A run beside a step goes to the general
+engine. Whatever a moved disk or a span cuts from the offset curves is proven nearer than r to S's
+boundary (`_covered`), so none of it was on the shrink's (grow's) boundary.
 
 Why the checks suffice: the straight pieces lie on the boundary of S, which never meets the (open) core or
 anticore; a valid disk at a convex vertex lies in S, so its arc cannot enter the anticore, and an arc that
@@ -156,6 +157,7 @@ class _Rings:
         self.keep = None                # vertices left in the loops, where runs merged (`_same_side_runs`)
         self.dropped = None             # corners the loop passes by (`_bridge_steps`)
         self.spans = []                 # (side, edges, vertex): offsets trimmed to its centre (`_trim_spans`)
+        self._fixed = []                # straight pieces from a span's foot: (at, edge, start, end) (`_fixed_pieces`)
         self._offsets, self._arcs = {}, {}
         self._sagitta = None
 
@@ -255,7 +257,9 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
         return None
     if (D.length < -1e-12 * np.maximum(D.ell, r)).any():
         # Two disks do not fit on one edge: same-side runs (`_same_side_runs`) first, then steps.
-        if D.pair or not _same_side_runs(D):
+        if D.pair:
+            return None
+        if not _same_side_runs(D):
             return None
         if (D.length < -1e-12 * np.maximum(D.ell, r)).any():
             runs = D.bridged
@@ -444,7 +448,8 @@ def _bridge_steps(D: _Rings) -> bool:
             return False
         D.theta[v] = turn
     D.theta[dropped] = 0.0
-    D.bridged, D.dropped = bad, dropped
+    D.bridged = bad
+    D.dropped = dropped if D.dropped is None else dropped | D.dropped    # with the bends a span passes by
     D._sagitta = None
     # The offset curves: the stepped edge's offset is gone on a side whose disk moved (a point at the
     # centre), and the arc about the step's other end starts or ends at the moved centre. What is cut
@@ -650,6 +655,19 @@ def _circle_hit(base: np.ndarray, u: np.ndarray, x: np.ndarray, r: float, first:
 #   through both corners of a mouth inside the chain usually reaches into the other span; the disks
 #   tangent to the shared wall, from either side, through the far corners, are the corners of the shrink
 #   and the grow there (`_span_chain` takes the first candidate whose centre is r from every edge).
+# * A lone notch or tab none of those disks fits (real outlines: walls digitised with slight bends, mouths
+#   flared or cut by a neighbouring wall), tried in turn, each exactly like the others:
+#   - E tangent to two edges turning by less than π, the wall from A or the edge before A, and the wall
+#     into D or the edge after D (`_span_walls`): a merged corner over the corners between them. The loop
+#     runs along each edge to E or, where E's foot comes before the neighbouring disk's tangent point,
+#     on the inner tangent from that disk, which must touch E between its two feet.
+#   - E tangent to the wall beyond one mouth corner, through the other (`_span_beyond`): the mouth corner
+#     on that wall is passed by, and the loop runs on along the wall from E's foot.
+#   - The same notch with its mouth taken past slight bends (under 30°) of its walls (`_mouth`): tried
+#     when the mouth as drawn does not fit, after D is put back as it was (`_Undo`).
+#   A corner of the other side that a span passes by keeps its own disk, which still shapes that side's
+#   offset curves (sliding along an edge where it is a step's, `_slide_passed`); its arc on side s goes,
+#   checked like the rest, and stays in the arrays as the point E.
 #
 # The dropped corners stay in the arrays as disks of sweep 0 at the merged centre (their edges of length 0,
 # leaving in the direction that arrives at the run), so every exact test reads them as points of the one
@@ -672,7 +690,7 @@ def _same_side_runs(D: _Rings) -> bool:
     for side in (1, -1):
         D.arcs(side)                                # cached about the original corners, before turns change
     keep = np.ones(len(D.v), bool)
-    outer, notches = [], []
+    outer, notches, passed, other = [], [], [], {}
     for first in np.flatnonzero(inner & ~inner[prv]).tolist():
         run = [first]
         while inner[run[-1]]:
@@ -684,22 +702,14 @@ def _same_side_runs(D: _Rings) -> bool:
         if abs(turn) < math.pi - 1e-6 and not (step[h] or step[last]) and _merge_run(D, run, s, turn):
             outer += [h, last]
         else:
-            # The mouth: the nearest corners of the other side, across at most a few corners of side s
-            # whose edges fit (a wall digitised with a slight bend just before the notch).
-            A, Dv = h, int(nxt[last])
-            for _ in range(3):
-                if D.side[A] != s or short[prv[A]]:
-                    break
-                run.insert(0, A)
-                A = int(prv[A])
-            for _ in range(3):
-                if D.side[Dv] != s or short[Dv]:
-                    break
-                run.append(Dv)
-                Dv = int(nxt[Dv])
-            if D.side[A] == s or D.side[Dv] == s:
+            # A notch or tab: its mouth as drawn (`_mouth`), else across slight bends of its walls.
+            plain, bent = _mouth(D, run, s, short, False), _mouth(D, run, s, short, True)
+            if plain is None and bent is None:
                 return False
-            notches.append((A, run, Dv, s))
+            notches.append(plain or bent)
+            if plain is not None and bent is not None and (bent[0], bent[2]) != (plain[0], plain[2]):
+                other[plain[0], plain[2]] = bent
+            continue
         keep[run[:-1]] = False
     if outer:
         e = np.array(outer)
@@ -709,17 +719,95 @@ def _same_side_runs(D: _Rings) -> bool:
     chains = _span_chains(notches, short, prv)
     if chains is None:
         return False
+    used = np.zeros(len(D.v), bool)
+    about = {side: np.flatnonzero(D.side != side) for side in (1, -1)}     # the vertices of each side's arcs
+    for chain in chains:
+        used[[x for A, run, Dv, _ in chain for x in [A, Dv] + run]] = True
     bridged = []
     for chain in chains:
-        trims = _span_chain(D, chain)
-        if trims is None:
+        undo = _Undo(D, chain[0][0], chain[-1][2], about)
+        spanned = _span_chain(D, chain)
+        bent = other.get((chain[0][0], chain[0][2])) if len(chain) == 1 else None
+        if spanned is None and bent is not None:
+            # The mouth across the walls' slight bends instead, where it meets no other span or step.
+            A, run, Dv, _ = bent
+            mine = [A, Dv] + run
+            if not (short[prv[A]] or short[Dv] or used[mine].sum() > len(chain[0][1]) + 2):
+                undo.restore(D)
+                chain = [bent]
+                spanned = _span_chain(D, chain)
+        if spanned is None:
             return False
-        bridged += [chain[0][0]] + [run[-1] for _, run, _, _ in chain]
+        trims, crossed, gone = spanned
+        bridged += crossed
+        for _, run, _, _ in chain:
+            keep[run] = False
+        keep[[at for _, _, at, *_ in trims]] = True
+        passed += gone
         D.spans += trims
+    if D._fixed and not _fixed_pieces(D):
+        return False
+    if passed:
+        D.dropped = np.zeros(len(D.v), bool)
+        D.dropped[passed] = True
+        keep[passed] = False
     D.keep = keep
     D.bridged = np.array(bridged, dtype=np.int64)
     D._sagitta = None
     return True
+
+
+def _mouth(D: _Rings, run: list, s: float, short: np.ndarray, bends: bool):
+    """A notch's (tab's) mouth ``(A, run, D, s)``: the nearest corners of the other side before and after
+    the run, across at most a few corners whose edges fit and that are of side s or, with ``bends``, slight
+    bends of the other side (a wall digitised with a slight bend before the notch, either way: passed by,
+    their own disks still shaping that side's offset curves); None if a corner of side s is left there."""
+    nxt, prv = D.next, D.prev
+    run = list(run)
+    A, Dv = int(prv[run[0]]), int(nxt[run[-1]])
+    for _ in range(_WALL_BENDS):
+        if not (D.side[A] == s or bends and abs(D.theta[A]) < _SLIGHT) or short[prv[A]]:
+            break
+        run.insert(0, A)
+        A = int(prv[A])
+    for _ in range(_WALL_BENDS):
+        if not (D.side[Dv] == s or bends and abs(D.theta[Dv]) < _SLIGHT) or short[Dv]:
+            break
+        run.append(Dv)
+        Dv = int(nxt[Dv])
+    return None if D.side[A] == s or D.side[Dv] == s else (A, run, Dv, s)
+
+
+class _Undo:
+    """What spanning a chain may change of D, from a few corners before its first mouth to a few after its
+    last: put back (`restore`) when the chain does not fit, before it is tried another way."""
+
+    def __init__(self, D: _Rings, first: int, last: int, about: dict, margin: int = 3):
+        idx = [first]
+        for _ in range(margin):
+            idx.insert(0, int(D.prev[idx[0]]))
+        x = first
+        while x != last and len(idx) <= len(D.v):
+            x = int(D.next[x])
+            idx.append(x)
+        for _ in range(margin):
+            idx.append(int(D.next[idx[-1]]))
+        self.idx = idx = np.unique(idx)
+        self.rows = [(a, a[idx].copy()) for a in (D.c, D.t, D.phi, D.length, D.theta)]
+        self.arcs = []
+        for side in (1, -1):
+            arrays = D.arcs(side)
+            k = np.searchsorted(about[side], idx[D.side[idx] != side])
+            self.arcs.append((arrays, k, [a[k].copy() for a in arrays]))
+        self.spans, self.fixed = len(D.spans), len(D._fixed)
+
+    def restore(self, D: _Rings) -> None:
+        for a, saved in self.rows:
+            a[self.idx] = saved
+        for arrays, k, saved in self.arcs:
+            for a, x in zip(arrays, saved, strict=True):
+                a[k] = x
+        del D.spans[self.spans:], D._fixed[self.fixed:]
 
 
 def _span_chains(notches: list, short: np.ndarray, prv: np.ndarray):
@@ -757,9 +845,11 @@ def _span_chains(notches: list, short: np.ndarray, prv: np.ndarray):
 def _trim_spans(D: _Rings) -> None:
     """The offsets on side s of a notch's (tab's) edges are gone, points at E (`_span_chain` checked that
     every point of them is nearer than r to S's boundary). After the steps have moved their disks."""
-    for s, edges, at in D.spans:
+    for s, edges, at, *ends in D.spans:
         a, b = D._offset_ends(s)
         a[edges] = b[edges] = D.c[at]
+        for edge, begins in ends[0] if ends else ():    # a wall's offset beyond a span: begins (ends) at E
+            (a if begins else b)[edge] = D.c[at]
 
 
 def _merge_run(D: _Rings, run: list, s: float, turn: float) -> bool:
@@ -793,6 +883,8 @@ def _merge_run(D: _Rings, run: list, s: float, turn: float) -> bool:
 
 
 _GRAZING = 0.25       # a notch's disk E at least this × r beyond its mouth (`_span_chain`)
+_WALL_BENDS = 3       # `_same_side_runs`: a notch's mouth is looked for across at most this many corners
+_SLIGHT = math.pi / 6     # … of its own side or, with ``bends``, turning the other way by less than this
 
 
 def _span_chain(D: _Rings, chain: list):
@@ -839,9 +931,12 @@ def _span_chain(D: _Rings, chain: list):
             beyond = ("seg", (E, raw) if forward else (raw, E), forward, not forward, (int(wall),))
             found = (E, ("wall", wall, through, forward, beyond), run if forward else [A] + run[:-1])
         if found is None:
-            return None
+            if len(chain) > 1:
+                return None
+            spanned = _span_walls(D, A, run, Dv, s)     # False: it fitted, then failed (D changed)
+            return _span_beyond(D, A, run, Dv, s) if spanned is None else spanned or None
         disks.append(found[:2])
-        trims.append((int(s), found[2], run[-1]))
+        trims.append((int(s), found[2], [x for x in run if D.side[x] == s][-1]))   # E's corner in the loop
     # The outer mouth corners' own disks touch the edges into the chain, or slide along their walls until
     # they meet the first (last) run's end corner (`_slide_mouth`). The mouths inside a chain are corners
     # of the next (previous) span's run: their disks are not on the loop.
@@ -862,6 +957,8 @@ def _span_chain(D: _Rings, chain: list):
         pieces += _whole_offsets(D, edges, s)
         centres, start, sweep = D.arcs(int(s))
         k_of = np.cumsum(D.side != s) - 1           # index of a vertex's arc on side s
+        bends = [x for x in run if D.side[x] != s]  # slight bends passed by: their whole arcs on side s go
+        pieces += _whole_arcs(D, bends, s, E)
         if how[0] == "mouth":
             w = math.hypot(*(D.v[Dv] - D.v[A]))
             beta = math.acos(min(1.0, 0.5 * w / r))     # the arc about A inside D's open disk: ±β about A→D
@@ -925,12 +1022,285 @@ def _span_chain(D: _Rings, chain: list):
             if not (at <= span + 1e-9 or at >= _TWO_PI - 1e-9):
                 return None
     D.phi[A0], D.length[A0], D.theta[A0] = phis[0], lengths[0], turns[0]
-    for k, ((_, run, _, _), (E, _)) in enumerate(zip(chain, disks, strict=True)):
-        D.c[run] = E
-        D.phi[run[:-1]], D.length[run[:-1]], D.theta[run[:-1]] = phis[k], 0.0, 0.0
-        D.phi[run[-1]], D.length[run[-1]], D.theta[run[-1]] = phis[k + 1], lengths[k + 1], turns[k + 1]
+    for k, ((_, run, _, s), (E, _), (_, _, at)) in enumerate(zip(chain, disks, trims, strict=True)):
+        D.c[[x for x in run if D.side[x] == s]] = E
+        D.phi[run], D.length[run], D.theta[run] = phis[k], 0.0, 0.0
+        D.phi[run[run.index(at):]] = phis[k + 1]    # from E on (bends passed by after it), the bridge out
+        D.length[at], D.theta[at] = lengths[k + 1], turns[k + 1]
     D.theta[Dn] = turns[-1]
-    return trims
+    gone = [x for _, run, _, s in chain for x in run if D.side[x] != s]
+    if not _slide_passed(D, gone):
+        return None
+    return trims, [A0] + [at for _, _, at in trims], gone
+
+
+def _span_beyond(D: _Rings, A: int, run: list, Dv: int, s: float):
+    """Span a notch (tab) whose disk E rests on a wall outside its mouth, when no disk of `_span_chain`
+    fits: tangent to the edge leaving D, through A (D a slight bend the wall goes on beyond), or to the
+    edge arriving at A, through D. The mouth corner on that wall is passed by: the loop runs from A's own
+    disk on the inner tangent to E, around E, and on along the wall after D (or along the wall before A to
+    E, around E, and on the inner tangent to D's disk). In place; ``(trims, bridged, passed)`` as
+    `_span_chain`'s, or None.
+
+    Cut from side s, and shown nearer than r to S (`_covered`): the offsets of the edges from A to D, the
+    wall's offset up to E, the passed corner's whole arc and the other corner's arc beyond E.
+    """
+    r = D.r
+    limit = r - D.tie
+    mine = [x for x in run if D.side[x] == s]
+    if not mine:
+        return None
+    for after in (True, False):
+        wall = Dv if after else int(D.prev[A])
+        through, passed = (A, Dv) if after else (Dv, A)
+        base = D.v[wall] + s * r * D.n[wall]
+        x = _circle_hit(base, D.u[wall], D.v[through], r, first=not after)
+        if x is None or not 0.0 <= x <= D.ell[wall]:
+            continue
+        E = base + x * D.u[wall]
+        if not _closer_than(D, E[None], E[None], limit):
+            break
+    else:
+        return None
+    nxt, prv = D.next, D.prev
+    # The kept mouth corner's disk touches its wall into the span, or slides along its outer wall.
+    if after and D.t[A] > D.ell[A] and not _slide_mouth(D, A, int(prv[A]), run[0], True):
+        return None
+    if not after and D.t[Dv] > D.ell[run[-1]] and not _slide_mouth(D, Dv, Dv, run[-1], False):
+        return None
+    centres, start, sweep = D.arcs(int(s))
+    k_of = np.cumsum(D.side != s) - 1               # index of a vertex's arc on side s
+    pieces = _whole_offsets(D, [A] + run, s)
+    pieces += _whole_arcs(D, [x for x in run if D.side[x] != s] + [passed], s, E)
+    raw0, raw1 = base, D.v[nxt[wall]] + s * r * D.n[wall]
+    pieces.append(("seg", (raw0, E), False, True, (wall,)) if after else ("seg", (E, raw1), True, False, (wall,)))
+    n = int(k_of[through])
+    a0, sw = float(start[n]), float(sweep[n])
+    at = _wrap(math.atan2(*(E - D.v[through])[::-1]) - a0)
+    if at * sw < 0 or abs(at) > abs(sw):
+        return None
+    own = (int(prv[through]), int(through))
+    if after:                                       # A's arc after E goes (toward the span)
+        pieces.append(("arc", (D.v[through], a0 + at, sw - at), True, False, own))
+        sweep[n] = at
+    else:                                           # D's arc before E goes
+        pieces.append(("arc", (D.v[through], a0, at), False, True, own))
+        start[n], sweep[n] = a0 + at, sw - at
+    if not _covered(D, pieces):
+        return None
+    # The bridge between E and the kept mouth corner's disk (of the other side: the inner tangent).
+    X = A if after else Dv
+    u = E - D.c[X] if after else D.c[X] - E
+    d = math.hypot(u[0], u[1])
+    if not d > 2.0 * r * (1 + 1e-9):
+        return None
+    phi = math.atan2(u[1], u[0]) + (D.side[X] if after else s) * math.asin(2.0 * r / d)
+    span_len = math.sqrt(d * d - 4 * r * r)
+    along = float(D.phi[wall])
+    if after:
+        turn_x, turn_e = _wrap(phi - D.phi[prv[A]]), _wrap(along - phi)
+    else:
+        turn_e, turn_x = _wrap(phi - along), _wrap(D.phi[Dv] - phi)
+    if not (turn_x * D.side[X] > 0 and turn_e * s > 0):
+        return None
+    # E's arc runs where E's disk touches the grow's (shrink's) corner: from the bridge's contact to the
+    # foot on the wall (from the foot to the bridge's), within the directions of its two contacts.
+    foot = math.atan2(*(-s * D.n[wall])[::-1])
+    corner = math.atan2(*(D.v[through] - E)[::-1])
+    lo, hi = (corner, foot) if after else (foot, corner)
+    touch = math.atan2(*(-s * np.array([-math.sin(phi), math.cos(phi)]))[::-1])
+    at = (s * (touch - lo)) % _TWO_PI
+    if not (at <= (s * (hi - lo)) % _TWO_PI + 1e-9 or at >= _TWO_PI - 1e-9):
+        return None
+    rep = mine[-1]
+    D.c[mine] = E
+    D.length[run] = D.theta[run] = 0.0
+    D.phi[run] = phi if after else along
+    D.phi[run[run.index(rep):]] = along if after else phi
+    D.theta[rep] = turn_e
+    D.theta[X] = turn_x
+    D.theta[passed] = D.length[passed] = 0.0
+    if after:
+        D.phi[A], D.length[A] = phi, span_len
+        D._fixed.append((rep, int(wall), float(x), None))           # on along the wall (`_fixed_pieces`)
+        e = int(prv[A])
+        D.length[e] = D.ell[e] - D.t[e] - D.t[A]
+        bridged = [A, rep]
+    else:
+        D.phi[A] = along
+        D.phi[rep], D.length[rep] = phi, span_len
+        D._fixed.append((int(wall), int(wall), None, float(x)))
+        D.length[Dv] = D.ell[Dv] - D.t[Dv] - D.t[nxt[Dv]]
+        bridged = [wall, rep]
+    e = int(prv[A]) if after else Dv
+    gone = [x for x in run if D.side[x] != s] + [passed]
+    if D.length[e] < -1e-12 * max(D.ell[e], r) or not _slide_passed(D, gone):
+        return None
+    return [(int(s), [A] + run, rep, [(wall, after)])], bridged, gone
+
+
+def _whole_arcs(D: _Rings, corners: list, s: float, E: np.ndarray | None) -> list:
+    """The arcs about ``corners`` on side s, as `_covered`'s pieces; unless E is None, each is left in
+    `_Rings.arcs` as the point E (a sweep of 0 there, where the span's trimmed offsets are points too)."""
+    centres, start, sweep = D.arcs(int(s))
+    k_of = np.cumsum(D.side != s) - 1
+    pieces = []
+    for y in corners:
+        n = int(k_of[y])
+        pieces.append(("arc", (D.v[y], float(start[n]), float(sweep[n])), False, False, (int(D.prev[y]), int(y))))
+        if E is not None:
+            centres[n] = E - D.r * np.array([math.cos(start[n]), math.sin(start[n])])
+            sweep[n] = 0.0
+    return pieces
+
+
+def _span_walls(D: _Rings, A: int, run: list, Dv: int, s: float):
+    """Span a notch (tab) by the disk E tangent to two edges on either side of it that turn by less than π:
+    the wall from A or the edge before A, and the wall into D or the edge after D (a slot whose walls, past
+    slight bends, close in to less than 2r; a mouth corner inside the grow's corner). As a run merged into
+    one corner (`_merge_run`): the corners between the two edges are left out of the loop, those of side s
+    at E, the others passed by. The loop runs from the first edge's start corner's disk along it to E,
+    around E, and along the second edge to its end corner's disk; where E's foot comes before that disk's
+    (a corner of the other side), on the inner tangent between the two disks instead, which must leave E
+    between its two feet. In place (only once one fits); ``(trims, bridged, passed)`` as `_span_chain`'s,
+    or None.
+
+    Cut from side s, and shown nearer than r to S (`_covered`): the offsets of the edges between the two,
+    their offsets beyond E, and the arcs about the corners passed by.
+    """
+    r = D.r
+    tol = -1e-12 * r
+    for h, e in ((A, run[-1]), (A, Dv), (int(D.prev[A]), run[-1]), (int(D.prev[A]), Dv)):
+        found = _tangent_disk(D, h, e, s)
+        if found is None:
+            continue
+        E, back, on = found
+        P, Q = int(h), int(D.next[e])                   # the corners whose disks the loop comes from, goes to
+        # Along each edge, or on a bridge: the direction and length of the loop into E and out of it.
+        phi_in, phi_out = float(D.phi[h]), float(D.phi[e])
+        piece_h = D.ell[h] - D.t[P] - back
+        piece_e = D.ell[e] - on - D.t[Q]
+        bridge_in, bridge_out = piece_h < tol * D.ell[h], piece_e < tol * D.ell[e]
+        # (A bridge only from the chain's own mouth corners: another's disk is not this span's to turn.)
+        if bridge_in:
+            if h != A or D.side[P] == s or D.t[P] > D.ell[h]:
+                continue
+            phi_in, len_in = _inner_tangent(D.c[P], E, float(D.side[P]), r)
+        if bridge_out:
+            if e != run[-1] or D.side[Q] == s or D.t[Q] > D.ell[e]:
+                continue
+            phi_out, len_out = _inner_tangent(E, D.c[Q], s, r)
+        if phi_in is None or phi_out is None:
+            continue
+        turn = _wrap(phi_out - phi_in)
+        turn_p = _wrap(phi_in - D.phi[D.prev[P]]) if bridge_in else D.theta[P]
+        turn_q = _wrap(D.phi[Q] - phi_out) if bridge_out else D.theta[Q]
+        if not (turn * s > 0 and turn_p * D.side[P] > 0 and turn_q * D.side[Q] > 0):
+            continue
+        # E's arc lies between its feet on h and e: on the boundary of the grow (shrink) there.
+        foot_h = math.atan2(*(-s * D.n[h])[::-1])
+        span = (s * (math.atan2(*(-s * D.n[e])[::-1]) - foot_h)) % _TWO_PI
+        at = [(s * (_touch(phi, s) - foot_h)) % _TWO_PI for phi in (phi_in, phi_out)]
+        if not all(x <= span + 1e-9 or x >= _TWO_PI - 1e-9 for x in at):       # at a foot: 0 or 2π
+            continue
+        mid = ([] if h == A else [A]) + run + ([] if e == run[-1] else [Dv])     # corners from h's end to e
+        passed = [x for x in mid if D.side[x] != s]
+        mine = [x for x in mid if D.side[x] == s]
+        pieces = _whole_offsets(D, mid[:-1], s) + _whole_arcs(D, passed, s, None)
+        pieces += [("seg", (E, D.v[D.next[h]] + s * r * D.n[h]), True, False, (int(h),)),
+                   ("seg", (D.v[e] + s * r * D.n[e], E), False, True, (int(e),))]
+        if not mine or not _covered(D, pieces):
+            continue
+        _whole_arcs(D, passed, s, E)
+        rep = mine[-1]
+        D.c[mine] = E
+        D.length[mid] = D.theta[mid] = 0.0
+        D.phi[mid] = phi_in
+        D.phi[mid[mid.index(rep):]] = phi_out
+        D.theta[rep] = turn
+        bridged = []
+        if bridge_in:
+            D.phi[P], D.length[P], D.theta[P] = phi_in, len_in, turn_p
+            bridged.append(P)
+        else:
+            D._fixed.append((P, int(h), None, float(D.ell[h] - back)))
+        if bridge_out:
+            D.length[rep], D.theta[Q] = len_out, turn_q
+            bridged.append(rep)
+        else:
+            D._fixed.append((rep, int(e), float(on), None))
+        if not _slide_passed(D, passed):
+            return False
+        return [(int(s), mid[:-1], rep, [(int(h), False), (int(e), True)])], bridged, passed
+    return None
+
+
+def _inner_tangent(p: np.ndarray, q: np.ndarray, side: float, r: float):
+    """The inner tangent from the disk about p (of this side) to the one about q (of the other), each of
+    radius r: its direction and length, or (None, None) if the disks come within 2r of each other."""
+    u = q - p
+    d = math.hypot(u[0], u[1])
+    if not d > 2.0 * r * (1 + 1e-9):
+        return None, None
+    return math.atan2(u[1], u[0]) + side * math.asin(2.0 * r / d), math.sqrt(d * d - 4.0 * r * r)
+
+
+def _touch(phi: float, s: float) -> float:
+    """The direction from a disk of side s to where the loop, running in direction phi, touches it."""
+    return math.atan2(-s * math.cos(phi), s * math.sin(phi))
+
+
+def _tangent_disk(D: _Rings, h: int, e: int, s: float):
+    """The disk on side s tangent to edges h and e (their directions turning the way of s by less than π),
+    its centre r or more from every edge: ``(E, back, on)``, its feet ``back`` from h's end and ``on`` from
+    e's start, both on their edges; or None."""
+    r = D.r
+    turn = _wrap(float(D.phi[e] - D.phi[h]))
+    uh, ue = D.u[h], D.u[e]
+    sine = uh[0] * ue[1] - uh[1] * ue[0]
+    if not (turn * s > 0 and abs(sine) > 1e-9):
+        return None
+    w = D.v[e] - D.v[D.next[h]]
+    a = (w[0] * ue[1] - w[1] * ue[0]) / sine        # the lines meet at V = h's end + a·uh = e's start + b·ue
+    b = (w[0] * uh[1] - w[1] * uh[0]) / sine
+    t = r * math.tan(0.5 * abs(turn))
+    back, on = t - a, t + b
+    if not (0 <= back <= D.ell[h] and 0 <= on <= D.ell[e]):
+        return None
+    V = D.v[D.next[h]] + a * uh
+    E = V + (s * r / (1.0 + float(uh @ ue))) * (D.n[h] + D.n[e])
+    if _closer_than(D, E[None], E[None], r - D.tie):
+        return None
+    return E, back, on
+
+
+def _slide_passed(D: _Rings, passed: list) -> bool:
+    """The corners a span passes by keep their own disks, which shape the other side's offset curves: a
+    disk whose tangent is longer than one of its edges (a step inside the span) slides along the other
+    edge until it meets that edge's far end (`_slide_mouth`); False if it cannot."""
+    for x in passed:
+        nxt, prv = int(D.next[x]), int(D.prev[x])
+        fwd, back = D.t[x] > D.ell[x], D.t[x] > D.ell[prv]
+        if fwd and back or fwd and not _slide_mouth(D, x, prv, nxt, True) \
+                or back and not _slide_mouth(D, x, x, prv, False):
+            return False
+    return True
+
+
+def _fixed_pieces(D: _Rings) -> bool:
+    """The straight pieces on the edges a span's disk E rests on (`_span_walls`, `_span_beyond`), once every
+    span has moved its disks: from E's foot to the disk at the edge's other end; False if one is negative
+    or an edge carries two feet."""
+    edges = [edge for _, edge, _, _ in D._fixed]
+    if len(set(edges)) < len(edges):
+        return False
+    for at, edge, start, end in D._fixed:
+        lo = D.t[edge] if start is None else start
+        hi = D.ell[edge] - D.t[D.next[edge]] if end is None else end
+        D.length[at] = hi - lo
+        if D.length[at] < -1e-12 * max(D.ell[edge], D.r):
+            return False
+    return True
 
 
 def _arc_cut(start: float, sweep: float, at: float, keep_first: bool, toward: float, beta: float):
@@ -1699,7 +2069,12 @@ def _closer_than(D: _Rings, p: np.ndarray, q: np.ndarray, limit: float, known=No
                 return True
     if (~short).any():
         long_edges = shapely.linestrings(np.stack([edge_a[~short], edge_b[~short]], axis=1))
-        probes = shapely.linestrings(np.stack([p, q + (p == q).all(axis=1)[:, None] * 1e-300], axis=1))
+        # A point is probed as a point: a segment of length 0 (p = q) has no extent the tree can match,
+        # and `STRtree.query` then finds no edge near it at all.
+        point = (p == q).all(axis=1)
+        probes = np.empty(len(p), dtype=object)
+        probes[point] = shapely.points(p[point])
+        probes[~point] = shapely.linestrings(np.stack([p[~point], q[~point]], axis=1))
         hits = shapely.STRtree(long_edges).query(probes, predicate="dwithin", distance=limit)
         if hits.shape[1]:
             i, j = hits
