@@ -508,7 +508,10 @@ def _covered(D: _Rings, pieces) -> bool:
     r = D.r
     ea, eb = D.v, D.v[D.next]
     tree = None
-    for kind, geom, keep0, keep1, own in pieces:
+    whole = _in_one_capsule(D, pieces) if len(ea) <= _ALL_PIECES else np.zeros(len(pieces), bool)
+    for (kind, geom, keep0, keep1, own), settled in zip(pieces, whole, strict=True):
+        if settled:
+            continue
         if kind == "seg":
             p, q = geom
             w = q - p
@@ -562,6 +565,48 @@ def _covered(D: _Rings, pieces) -> bool:
         if not (dist.reshape(m, k).min(axis=1) < r).all():
             return False
     return True
+
+
+_MARGIN = 1e-3       # `_in_one_capsule`: beside a kept end, the piece's other points this far (× r) inside
+
+
+def _in_one_capsule(D: _Rings, pieces) -> np.ndarray:
+    """Which pieces (`_covered`'s) lie wholly in the open capsule of one edge (not their own): the common
+    case, settled without the crossings. The points of a segment are convex combinations of its ends, those
+    of an arc turning by less than π of its ends and of where its end tangents meet; the distance to an
+    edge is convex, so it is below r all along where it is below r at those points. A kept end (exactly r
+    from S) may be at r: the piece then leaves the capsule only within a fraction (rounding)/(_MARGIN·r) of
+    that end, below `_KEPT`, if its other points are _MARGIN·r inside."""
+    r = D.r
+    pts = np.full((len(pieces), 3, 2), np.nan)
+    kept = np.zeros((len(pieces), 3), bool)
+    own = np.zeros((len(pieces), len(D.v)), bool)
+    for i, (kind, geom, keep0, keep1, edges) in enumerate(pieces):
+        if kind == "seg":
+            pts[i, 0], pts[i, 2] = geom
+        else:
+            o, s0, sw = geom
+            if not abs(sw) < 0.9 * math.pi:
+                continue                            # its tangents meet far out: left to the crossings
+            a1 = s0 + sw
+            pts[i, 0] = o + r * np.array([math.cos(s0), math.sin(s0)])
+            pts[i, 2] = o + r * np.array([math.cos(a1), math.sin(a1)])
+            mid = s0 + 0.5 * sw
+            pts[i, 1] = o + (r / math.cos(0.5 * sw)) * np.array([math.cos(mid), math.sin(mid)])
+        kept[i, 0], kept[i, 2] = keep0, keep1
+        own[i, list(edges)] = True
+    valid = ~np.isnan(pts[:, :, 0])
+    m, n = len(D.v), len(pieces)
+    x = np.where(valid[:, :, None], pts, 0.0).reshape(-1, 2)
+    d = _point_segment_distances(np.repeat(x, m, axis=0), np.tile(D.v, (3 * n, 1)),
+                                 np.tile(D.v[D.next], (3 * n, 1))).reshape(n, 3, m)
+    inside = np.where(kept[:, :, None], d <= r * (1 + 1e-12), d < r)
+    deep = np.where(kept[:, :, None], True, d < r * (1 - _MARGIN))
+    inside |= ~valid[:, :, None]
+    deep |= ~valid[:, :, None]
+    one_kept = kept.any(axis=1)
+    fits = inside.all(axis=1) & (~one_kept[:, None] | deep.all(axis=1)) & ~own
+    return fits.any(axis=1) & valid[:, [0, 2]].all(axis=1) & ~(kept[:, 0] & kept[:, 2])
 
 
 def _segment_crossings(p, w, circles, m, k, r) -> np.ndarray:
