@@ -204,6 +204,28 @@ def test_a_slot_with_a_flared_mouth_is_spanned_by_the_disk_tangent_to_both_flare
     assert len(centres) == 7
 
 
+@pytest.mark.parametrize("init", ["core", "input", "mason"])
+@pytest.mark.parametrize("corner", ["bevel", "round"])
+def test_a_bevel_beside_a_step_is_one_disk_across_the_step(corner, init):
+    # The bottom wall steps up by 0.3 at x = 8.6 and its tread runs into the corner (10, 0.3), bevelled
+    # (legs 0.2) or rounded (radius 0.3, three chords). The corner's one disk is tangent to the tread and
+    # the right wall: centre (10 − r, 0.3 + r) = (9, 1.3), its foot on the tread at x = 9, on the step's
+    # edge. The step's lower corner's disk slides back along y = 0 until it meets the step's upper end:
+    # centre (8.6 − sqrt(r² − 0.7²), r). The loop runs straight from it to the corner's disk, passing the
+    # step's reflex corner by.
+    r = 1.0
+    if corner == "bevel":
+        bend = [(9.8, 0.3), (10, 0.5)]
+    else:
+        bend = [(9.7, 0.3)] + [(9.7 + 0.3 * math.sin(a), 0.6 - 0.3 * math.cos(a))
+                               for a in np.linspace(0, math.pi / 2, 4)[1:]]
+    S = Polygon([(0, 0), (8.6, 0), (8.6, 0.3)] + bend + [(10, 6), (0, 6)])
+    T = _fast_and_right(S, r, init)
+    centres, sides = disks(T)
+    assert _has(centres, 9.0, 1.3) and _has(centres, 8.6 - math.sqrt(r * r - 0.49), r)
+    assert len(centres) == 5 and (sides == 1).all()
+
+
 def test_cases_the_fast_path_declines():
     r = 1.0
     # Too shallow for E's bulge: 1.9 wide, E pokes 1 − sqrt(1 − 0.95²) = 0.69 above the mouth, the floor

@@ -22,9 +22,12 @@ by the disk through its mouth's two corners (or, where the mouth is 2r or wider,
 one wall through the other mouth corner), bridged like a step from their disks (which may slide along
 their walls); a tab and a notch that share a wall are spanned as a chain. A lone notch or tab may also be
 spanned by the disk tangent to two of its walls, or resting on the wall beyond one mouth corner (which it
-passes by), and its mouth may lie past slight bends of its walls. A run beside a step goes to the general
-engine. Whatever a moved disk or a span cuts from the offset curves is proven nearer than r to S's
-boundary (`_covered`), so none of it was on the shrink's (grow's) boundary.
+passes by), and its mouth may lie past slight bends of its walls. Beside a step, a run (with no mouth to
+span) becomes one disk that the step's bridge reaches, sliding along the run's other edge where the step
+is shorter than its tangent; a notch or tab is spanned as usual, its mouth corner's disk sliding along
+the wall into it as the step's own slide would. Whatever a moved disk or a span cuts from the offset
+curves is proven nearer than r to S's boundary (`_covered`), so none of it was on the shrink's (grow's)
+boundary.
 
 Why the checks suffice: the straight pieces lie on the boundary of S, which never meets the (open) core or
 anticore; a valid disk at a convex vertex lies in S, so its arc cannot enter the anticore, and an arc that
@@ -157,7 +160,8 @@ class _Rings:
         self.keep = None                # vertices left in the loops, where runs merged (`_same_side_runs`)
         self.dropped = None             # corners the loop passes by (`_bridge_steps`)
         self.spans = []                 # (side, edges, vertex): offsets trimmed to its centre (`_trim_spans`)
-        self._fixed = []                # straight pieces from a span's foot: (at, edge, start, end) (`_fixed_pieces`)
+        self.merged = {}                # first corner -> run, of the runs merged into one disk (`_merge_run`)
+        self._fixed = []                # pieces from a span's foot: (at, edge, start, end) (`_fixed_pieces`)
         self._offsets, self._arcs = {}, {}
         self._sagitta = None
 
@@ -337,8 +341,9 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
 # would turn the wrong way is *passed by*: its disk lies beyond the common tangent of its neighbours'
 # disks, and the loop runs along that tangent (of one side with the disks when they are of one side, a
 # bridge across when the corners passed by are two or more); its disk still shapes the offset curves. A
-# disk two steps would slide and a short edge between corners of the same side are left to the general
-# engine.
+# run of same-side corners merged into one disk (`_merge_run`) is one corner here, sliding along the run's
+# outer edges. A disk two steps would slide, and a short edge between corners of the same side that no run
+# took, are left to the general engine.
 
 def _bridge_steps(D: _Rings) -> bool:
     """Bridge every step of S (see above) in place: centres, lengths, turns, offsets, arcs; False if some
@@ -367,33 +372,40 @@ def _bridge_steps(D: _Rings) -> bool:
         depth = math.sqrt(r * r - half * half) / (2.0 * half)
         D.c[k] = 0.5 * (a + b) + D.side[k] * depth * np.array([-w[1], w[0]])
         moved[k] = _WEDGED
+    # A run merged into one disk (`_merge_run`) is its corners' disk: the edges it slides along are the
+    # edges before and after the run, and it moves whole.
+    ending = {run[-1]: run for run in D.merged.values()}
+    walls = []
     for i, j in zip(bad.tolist(), nxt.tolist()):
-        h = int(D.prev[i])
+        run_i, run_j = ending.get(i), D.merged.get(j)
+        h, at = (int(D.prev[run_i[0]]), run_i[0]) if run_i else (int(D.prev[i]), i)
+        e = run_j[-1] if run_j else j
+        walls += [h, e]
         if D.t[i] > D.ell[i] and moved.get(i) is not _WEDGED:
             # Corner i's disk slides forward along edge h's offset until it meets vertex j. Edge h may be
             # a step too (a jog): the disk must then still touch it, its foot no farther back than h's
             # start. A disk that two steps would slide is left to the general engine.
-            base = D.v[i] + D.side[i] * r * D.n[h]
+            base = D.v[at] + D.side[i] * r * D.n[h]
             x = _circle_hit(base, D.u[h], D.v[j], r, first=True)
             if x is None or x > 0 or i in moved or (short[h] and -x > D.ell[h]):
                 return False
-            D.c[i] = base + x * D.u[h]
+            D.c[run_i or i] = base + x * D.u[h]
             foot_end[h] = -x
             moved[i] = i
         if D.t[j] > D.ell[i] and moved.get(j) is not _WEDGED:
-            # Corner j's disk slides back along edge j's offset until it meets vertex i (edge j may be a
-            # step, as above).
-            base = D.v[j] + D.side[j] * r * D.n[j]
-            x = _circle_hit(base, D.u[j], D.v[i], r, first=False)
-            if x is None or x < 0 or j in moved or (short[j] and x > D.ell[j]):
+            # Corner j's disk slides back along edge j's offset (after a merged run, the run's last edge)
+            # until it meets vertex i (edge j may be a step, as above).
+            base = D.v[e] + D.side[j] * r * D.n[e]
+            x = _circle_hit(base, D.u[e], D.v[i], r, first=False)
+            if x is None or x < 0 or j in moved or (short[e] and x > D.ell[e]):
                 return False
-            D.c[j] = base + x * D.u[j]
-            foot_start[j] = x
+            D.c[run_j or j] = base + x * D.u[e]
+            foot_start[e] = x
             moved[j] = i
     # The straight pieces next to the steps, with their moved ends; then each bridge: the inner tangent
     # of its two disks, whose normal meets the line of centres at asin(2r/d), on the side of the first.
-    near = np.unique(np.concatenate([D.prev[bad], nxt]))
-    near = near[~short[near]]
+    near = np.unique(walls)
+    near = near[~short[near] & ~np.isin(near, D.bridged)]        # (not a span's bridge from its mouth)
     D.length[near] = D.ell[near] - foot_start[near] - foot_end[near]
     if (D.length[near] < 0).any():
         return False
@@ -442,11 +454,24 @@ def _bridge_steps(D: _Rings) -> bool:
             changed = True
     # The turn at every corner a bridge leaves or reaches, from the directions it now joins.
     ends = np.unique(np.concatenate([bad, nxt]))
-    for v in ends[~dropped[ends]].tolist():
+    ends = ends[~dropped[ends]]
+    if D.keep is not None:
+        ends = ends[D.keep[ends]]
+    for v in ends.tolist():
         turn = _wrap(D.phi[v] - D.phi[D.prev[v]])
         if not turn * D.side[v] > 0:
             return False
         D.theta[v] = turn
+    # A run merged into one disk beside a step: its whole turn, from the direction that arrives (a bridge,
+    # or the edge before it) to the one that leaves, at its last corner.
+    for first, run in D.merged.items():
+        if short[D.prev[first]] or short[run[-1]]:
+            arrive = D.phi[D.prev[first]]
+            D.phi[run[:-1]], D.theta[run[:-1]] = arrive, 0.0
+            turn = _wrap(D.phi[run[-1]] - arrive)
+            if not turn * D.side[first] > 0:
+                return False
+            D.theta[run[-1]] = turn
     D.theta[dropped] = 0.0
     D.bridged = bad
     D.dropped = dropped if D.dropped is None else dropped | D.dropped    # with the bends a span passes by
@@ -716,8 +741,15 @@ def _circle_hit(base: np.ndarray, u: np.ndarray, x: np.ndarray, r: float, first:
 #
 # The dropped corners stay in the arrays as disks of sweep 0 at the merged centre (their edges of length 0,
 # leaving in the direction that arrives at the run), so every exact test reads them as points of the one
-# arc; `_Rings.keep` leaves them out of the loops. A run next to a step, or a notch whose mouth corner is
-# another run's otherwise, goes to the general engine.
+# arc; `_Rings.keep` leaves them out of the loops.
+#
+# Beside a step (a short edge to a corner of the other side): a run merged into one disk is its corners'
+# disk for `_bridge_steps`, which bridges the step to it and, where its foot would lie beyond the step,
+# slides it along the run's other edge (it is tried only where no notch's mouth spans the run); a notch's
+# or tab's mouth corner keeps its disk for both the span's bridge and the step's, sliding it first along
+# the wall into the span exactly as `_bridge_steps` will (both agree), which then sets its turn. A mouth
+# corner whose disk two slides would move, or a notch whose mouth corner is another run's, goes to the
+# general engine.
 
 def _same_side_runs(D: _Rings) -> bool:
     """Merge every run of same-side short edges into one corner, or span it as a notch or tab (see above),
@@ -743,14 +775,23 @@ def _same_side_runs(D: _Rings) -> bool:
         last, h = run[-1], int(prv[first])
         s = float(D.side[first])
         turn = float(D.theta[run].sum())
-        # One merged corner where it fits (not beside a step), else a notch or tab where one spans it.
-        if abs(turn) < math.pi - 1e-6 and not (step[h] or step[last]) and _merge_run(D, run, s, turn):
+        # One merged corner where it fits (not beside a step), else a notch or tab where one spans it, else
+        # (beside a step) one merged corner the step is bridged to.
+        merge = abs(turn) < math.pi - 1e-6
+        if merge and not (step[h] or step[last]) and _merge_run(D, run, s, turn, step):
             outer += [h, last]
+            D.merged[first] = run
         else:
-            # A notch or tab: its mouth as drawn (`_mouth`), else across slight bends of its walls.
+            # A notch or tab: its mouth as drawn (`_mouth`), else across slight bends of its walls; a run
+            # beside a step with no mouth, one disk that `_bridge_steps` then bridges to the step.
             plain, bent = _mouth(D, run, s, short, False), _mouth(D, run, s, short, True)
             if plain is None and bent is None:
-                return False
+                if not (merge and _merge_run(D, run, s, turn, step)):
+                    return False
+                outer += [x for x in (h, last) if not step[x]]
+                D.merged[first] = run
+                keep[run[:-1]] = False
+                continue
             notches.append(plain or bent)
             if plain is not None and bent is not None and (bent[0], bent[2]) != (plain[0], plain[2]):
                 other[plain[0], plain[2]] = bent
@@ -761,7 +802,7 @@ def _same_side_runs(D: _Rings) -> bool:
         D.length[e] = D.ell[e] - D.t[e] - D.t[nxt[e]]
         if (D.length[e] < -1e-12 * np.maximum(D.ell[e], r)).any():
             return False                            # a merged disk's tangent runs past its outer edge
-    chains = _span_chains(notches, short, prv)
+    chains = _span_chains(D, notches, short, step)
     if chains is None:
         return False
     used = np.zeros(len(D.v), bool)
@@ -855,11 +896,12 @@ class _Undo:
         del D.spans[self.spans:], D._fixed[self.fixed:]
 
 
-def _span_chains(notches: list, short: np.ndarray, prv: np.ndarray):
+def _span_chains(D: _Rings, notches: list, short: np.ndarray, step: np.ndarray):
     """The notches and tabs grouped into chains, each span's far mouth corner the next one's first corner
     and its last corner the next one's near mouth (a tab beside a notch that share a wall, a crenellation);
-    None if a chain's outer walls are short (a span beside a step or a merged run) or two spans share
-    corners otherwise."""
+    None if two spans share corners otherwise, a chain's outer wall is another run's inner edge, or a step
+    whose mouth corner's disk fits neither its wall nor the step (it would slide two ways)."""
+    prv = D.prev
     after = {}
     for k, (A, run, Dv, s) in enumerate(notches):
         after[(run[0], A)] = k                      # a span, by its first corner and its near mouth
@@ -875,8 +917,11 @@ def _span_chains(notches: list, short: np.ndarray, prv: np.ndarray):
             k = nxt[k]
             chain.append(notches[k])
         A, Dv = chain[0][0], chain[-1][2]
-        if short[prv[A]] or short[Dv]:
-            return None
+        for X, wall, inside in ((A, int(prv[A]), A), (Dv, Dv, chain[-1][1][-1])):
+            if step[wall] and D.t[X] > D.ell[wall] and D.t[X] > D.ell[inside]:
+                return None
+            if short[wall] and not step[wall]:
+                return None                         # beside another run of corners
         corners = [A, Dv] + [x for _, run, _, _ in chain for x in run]
         if used[corners].any():
             return None
@@ -897,8 +942,9 @@ def _trim_spans(D: _Rings) -> None:
             (a if begins else b)[edge] = D.c[at]
 
 
-def _merge_run(D: _Rings, run: list, s: float, turn: float) -> bool:
-    """One disk for the run's corners, tangent to the edges h before it and e after (see above)."""
+def _merge_run(D: _Rings, run: list, s: float, turn: float, step: np.ndarray) -> bool:
+    """One disk for the run's corners, tangent to the edges h before it and e after (see above). Where h
+    (e) is a step, the disk's foot must lie on it; `_bridge_steps` then crosses the step."""
     first, last = run[0], run[-1]
     h = int(D.prev[first])
     uh, ue = D.u[h], D.u[last]
@@ -912,9 +958,10 @@ def _merge_run(D: _Rings, run: list, s: float, turn: float) -> bool:
     foot_h, foot_e = t - a, t + b                   # tangent points: back from v[first], on from v[last]
     if not (foot_h >= 0 and foot_e >= 0):
         return False
-    # The straight pieces on h and e, with the disks at their other ends as they are now.
-    if not (D.ell[h] - D.t[h] - foot_h >= -1e-12 * max(D.ell[h], D.r)
-            and D.ell[last] - foot_e - D.t[D.next[last]] >= -1e-12 * max(D.ell[last], D.r)):
+    # The straight pieces on h and e, with the disks at their other ends as they are now (not on a step: a
+    # bridge crosses it, the disk sliding along the run's other edge where its foot is beyond the step).
+    if not ((step[h] or D.ell[h] - D.t[h] - foot_h >= -1e-12 * max(D.ell[h], D.r))
+            and (step[last] or D.ell[last] - foot_e - D.t[D.next[last]] >= -1e-12 * max(D.ell[last], D.r))):
         return False
     V = D.v[first] + a * uh
     C = V + (s * D.r / (1.0 + float(uh @ ue))) * (D.n[h] + D.n[last])
@@ -990,10 +1037,27 @@ def _span_chain(D: _Rings, chain: list):
     for X, wall, corner, forward in ((A0, int(D.prev[A0]), first_run[0], True), (Dn, Dn, last_run[-1], False)):
         if D.t[X] > D.ell[A0 if forward else last_run[-1]] and not _slide_mouth(D, X, wall, corner, forward):
             return None
+    # A mouth corner beside a step whose tangent is longer than the step: its disk slides along its wall
+    # into the chain until it meets the step's far end, as `_bridge_steps` will slide it (the very same
+    # arithmetic, so that the two agree), which then bridges the step from it and cuts its offsets.
+    stepped = [_is_step(D, int(D.prev[A0])), _is_step(D, Dn)]
+    if stepped[0] and D.t[A0] > D.ell[D.prev[A0]]:
+        base = D.v[A0] + D.side[A0] * r * D.n[A0]
+        x = _circle_hit(base, D.u[A0], D.v[D.prev[A0]], r, first=False)
+        if x is None or not 0 <= x <= D.ell[A0]:
+            return None
+        D.c[A0] = base + x * D.u[A0]
+    if stepped[1] and D.t[Dn] > D.ell[Dn]:
+        h = int(D.prev[Dn])
+        base = D.v[Dn] + D.side[Dn] * r * D.n[h]
+        x = _circle_hit(base, D.u[h], D.v[D.next[Dn]], r, first=True)
+        if x is None or not -D.ell[h] <= x <= 0:
+            return None
+        D.c[Dn] = base + x * D.u[h]
     for e in (int(D.prev[A0]), Dn):
         D.length[e] = D.ell[e] - D.t[e] - D.t[D.next[e]]
-        if D.length[e] < -1e-12 * max(D.ell[e], r):
-            return None
+        if D.length[e] < -1e-12 * max(D.ell[e], r) and D.side[e] == D.side[D.next[e]]:
+            return None                             # (a step is left short: `_bridge_steps` crosses it)
     # What the spans trim from side s must be nearer than r to S's boundary: the edges' whole offsets, the
     # part of a wall's offset beyond E, and the arcs about the mouth corners up to E — these checked
     # exactly (`_covered`), or, for a mouth narrower than 2r, shown to lie in the other corner's open disk.
@@ -1046,7 +1110,9 @@ def _span_chain(D: _Rings, chain: list):
     # The turn at every disk of the chain, each the way of its side.
     turns = [_wrap(phis[0] - D.phi[D.prev[A0]])] + [_wrap(phis[k + 1] - phis[k]) for k in range(len(chain))] \
         + [_wrap(D.phi[Dn] - phis[-1])]
-    if not all(t * sd > 0 for t, sd in zip(turns, sides, strict=True)):
+    # (Beside a step the mouth corner's turn is the bridge's business: `_bridge_steps` sets and checks it.)
+    free = [not stepped[0]] + [True] * len(chain) + [not stepped[1]]
+    if not all(t * sd > 0 or not f for t, sd, f in zip(turns, sides, free, strict=True)):
         return None
     # Each E's arc runs where E's disk touches the grow's (shrink's) corner: between its contacts.
     for k, ((E, how), (A, run, Dv, s)) in enumerate(zip(disks, chain, strict=True)):
@@ -1093,7 +1159,7 @@ def _span_beyond(D: _Rings, A: int, run: list, Dv: int, s: float):
     r = D.r
     limit = r - D.tie
     mine = [x for x in run if D.side[x] == s]
-    if not mine:
+    if not mine or _is_step(D, int(D.prev[A])) or _is_step(D, Dv):
         return None
     for after in (True, False):
         wall = Dv if after else int(D.prev[A])
@@ -1118,7 +1184,8 @@ def _span_beyond(D: _Rings, A: int, run: list, Dv: int, s: float):
     pieces = _whole_offsets(D, [A] + run, s)
     pieces += _whole_arcs(D, [x for x in run if D.side[x] != s] + [passed], s, E)
     raw0, raw1 = base, D.v[nxt[wall]] + s * r * D.n[wall]
-    pieces.append(("seg", (raw0, E), False, True, (wall,)) if after else ("seg", (E, raw1), True, False, (wall,)))
+    pieces.append(("seg", (raw0, E), False, True, (wall,)) if after
+                  else ("seg", (E, raw1), True, False, (wall,)))
     n = int(k_of[through])
     a0, sw = float(start[n]), float(sweep[n])
     at = _wrap(math.atan2(*(E - D.v[through])[::-1]) - a0)
@@ -1192,7 +1259,8 @@ def _whole_arcs(D: _Rings, corners: list, s: float, E: np.ndarray | None) -> lis
     pieces = []
     for y in corners:
         n = int(k_of[y])
-        pieces.append(("arc", (D.v[y], float(start[n]), float(sweep[n])), False, False, (int(D.prev[y]), int(y))))
+        own = (int(D.prev[y]), int(y))
+        pieces.append(("arc", (D.v[y], float(start[n]), float(sweep[n])), False, False, own))
         if E is not None:
             centres[n] = E - D.r * np.array([math.cos(start[n]), math.sin(start[n])])
             sweep[n] = 0.0
@@ -1215,6 +1283,8 @@ def _span_walls(D: _Rings, A: int, run: list, Dv: int, s: float):
     """
     r = D.r
     tol = -1e-12 * r
+    if _is_step(D, int(D.prev[A])) or _is_step(D, Dv):
+        return None                                 # (beside a step: the main candidates only)
     for h, e in ((A, run[-1]), (A, Dv), (int(D.prev[A]), run[-1]), (int(D.prev[A]), Dv)):
         found = _tangent_disk(D, h, e, s)
         if found is None:
@@ -1306,7 +1376,8 @@ def _tangent_disk(D: _Rings, h: int, e: int, s: float):
     if not (turn * s > 0 and abs(sine) > 1e-9):
         return None
     w = D.v[e] - D.v[D.next[h]]
-    a = (w[0] * ue[1] - w[1] * ue[0]) / sine        # the lines meet at V = h's end + a·uh = e's start + b·ue
+    # The lines meet at V = h's end + a·uh = e's start + b·ue.
+    a = (w[0] * ue[1] - w[1] * ue[0]) / sine
     b = (w[0] * uh[1] - w[1] * uh[0]) / sine
     t = r * math.tan(0.5 * abs(turn))
     back, on = t - a, t + b
@@ -1317,6 +1388,12 @@ def _tangent_disk(D: _Rings, h: int, e: int, s: float):
     if _closer_than(D, E[None], E[None], r - D.tie):
         return None
     return E, back, on
+
+
+def _is_step(D: _Rings, e: int) -> bool:
+    """Whether edge e joins corners of the two sides and is too short for both their tangents."""
+    f = D.next[e]
+    return bool(D.side[e] != D.side[f] and D.ell[e] - D.t[e] - D.t[f] < -1e-12 * max(D.ell[e], D.r))
 
 
 def _slide_passed(D: _Rings, passed: list) -> bool:
