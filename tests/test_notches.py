@@ -226,11 +226,24 @@ def test_a_bevel_beside_a_step_is_one_disk_across_the_step(corner, init):
     assert len(centres) == 5 and (sides == 1).all()
 
 
+@pytest.mark.parametrize("init", ["core", "input", "mason"])
+def test_a_dent_too_shallow_for_its_mouth_disk_is_two_steps(init):
+    # 1.9 wide and 0.2 deep: the disk through the mouth would poke 1 − sqrt(1 − 0.95²) = 0.69 above it,
+    # through the floor. The dent is two steps with its floor between them: each floor corner's disk, outside
+    # S, slides along the floor until it meets its step's mouth corner, centre (5 + sqrt(2rh − h²), h − r) =
+    # (5.6, −0.8) and mirrored (6.3, −0.8); each mouth corner's disk slides along the wall until it meets the
+    # floor corner, (5 − sqrt(r² − (r − h)²), r) = (4.4, 1) and (7.5, 1). The loop runs along the floor between
+    # the two floor disks (0.7 of it).
+    r = 1.0
+    T = _fast_and_right(_slot(1.9, 0.2), r, init)
+    centres, sides = disks(T)
+    for (x, y), side in (((5.6, -0.8), -1), ((6.3, -0.8), -1), ((4.4, 1.0), 1), ((7.5, 1.0), 1)):
+        assert _has(centres, x, y) and sides[np.hypot(centres[:, 0] - x, centres[:, 1] - y).argmin()] == side
+    assert len(centres) == 8
+
+
 def test_cases_the_fast_path_declines():
     r = 1.0
-    # Too shallow for E's bulge: 1.9 wide, E pokes 1 − sqrt(1 − 0.95²) = 0.69 above the mouth, the floor
-    # is 0.2 deep. The anticore's disk sits on the floor instead.
-    assert vt.tighten(_slot(1.9, 0.2), r)._cache["_path"] == "general"
     # A mouth corner whose wall is a step: the notch and the step would share a disk.
     S = Polygon([(0, 0), (4.8, 0), (4.8, 0.3), (5, 0.3), (5, 1), (5.5, 1), (5.5, 0.3), (12, 0.3), (12, 10),
                  (0, 10)])

@@ -342,8 +342,10 @@ def fast_disk_loops(S, r: float, q: int, init: str, precision: float | None = No
 # disks, and the loop runs along that tangent (of one side with the disks when they are of one side, a
 # bridge across when the corners passed by are two or more); its disk still shapes the offset curves. A
 # run of same-side corners merged into one disk (`_merge_run`) is one corner here, sliding along the run's
-# outer edges. A disk two steps would slide, and a short edge between corners of the same side that no run
-# took, are left to the general engine.
+# outer edges. A short edge between corners of the same side, each the far end of a step (a bump or a dent
+# no span's disk fits), keeps its straight piece: both disks slide along it, away from their steps. A disk
+# two steps would slide, and other short edges between corners of the same side that no run took, are left
+# to the general engine.
 
 def _bridge_steps(D: _Rings) -> bool:
     """Bridge every step of S (see above) in place: centres, lengths, turns, offsets, arcs; False if some
@@ -352,8 +354,19 @@ def _bridge_steps(D: _Rings) -> bool:
     short = D.length < -1e-12 * np.maximum(D.ell, r)
     bad = np.flatnonzero(short)
     nxt = D.next[bad]
-    if (D.side[bad] == D.side[nxt]).any() or any(short[sl].all() for sl in D.slices):
+    if any(short[sl].all() for sl in D.slices):
         return False
+    # A short edge between two corners of one side, each the far end of a step (a bump or a dent
+    # narrower than 2r, shallower than its corners' tangents): the loop runs along it, both disks sliding
+    # along it away from their steps (checked below: its straight piece must not be negative).
+    same = D.side[bad] == D.side[nxt]
+    between = bad[same]
+    if len(between):
+        before, after = D.prev[between], D.next[between]
+        if not (short[before] & short[after] & (D.side[before] != D.side[between])
+                & (D.side[after] != D.side[D.next[after]])).all():
+            return False
+        bad, nxt = bad[~same], nxt[~same]
     arcs = {side: tuple(a.copy() for a in D.arcs(side)) for side in (1, -1)}  # about the original corners
     # Where each edge's straight piece starts and ends, as distances from its two vertices.
     foot_start, foot_end = D.t.copy(), D._succ(D.t)
@@ -405,7 +418,7 @@ def _bridge_steps(D: _Rings) -> bool:
     # The straight pieces next to the steps, with their moved ends; then each bridge: the inner tangent
     # of its two disks, whose normal meets the line of centres at asin(2r/d), on the side of the first.
     near = np.unique(walls)
-    near = near[~short[near] & ~np.isin(near, D.bridged)]        # (not a span's bridge from its mouth)
+    near = near[(~short[near] | np.isin(near, between)) & ~np.isin(near, D.bridged)]   # (not a span's bridge)
     D.length[near] = D.ell[near] - foot_start[near] - foot_end[near]
     if (D.length[near] < 0).any():
         return False
@@ -823,7 +836,13 @@ def _same_side_runs(D: _Rings) -> bool:
                 chain = [bent]
                 spanned = _span_chain(D, chain)
         if spanned is None:
-            return False
+            A, run, Dv, _ = chain[0]
+            if not (len(chain) == 1 and len(run) == 2 and step[A] and step[run[-1]]):
+                return False
+            # A bump or dent between two steps that no disk spans: left to `_bridge_steps`, which takes
+            # it as two steps whose disks slide along the edge between them.
+            undo.restore(D)
+            continue
         trims, crossed, gone = spanned
         bridged += crossed
         for _, run, _, _ in chain:
