@@ -1221,12 +1221,9 @@ def _span_beyond(D: _Rings, A: int, run: list, Dv: int, s: float):
         return None
     # The bridge between E and the kept mouth corner's disk (of the other side: the inner tangent).
     X = A if after else Dv
-    u = E - D.c[X] if after else D.c[X] - E
-    d = math.hypot(u[0], u[1])
-    if not d > 2.0 * r * (1 + 1e-9):
+    phi, span_len = _inner_tangent(D.c[X], E, float(D.side[X]), r) if after else _inner_tangent(E, D.c[X], s, r)
+    if phi is None:
         return None
-    phi = math.atan2(u[1], u[0]) + (D.side[X] if after else s) * math.asin(2.0 * r / d)
-    span_len = math.sqrt(d * d - 4 * r * r)
     along = float(D.phi[wall])
     if after:
         turn_x, turn_e = _wrap(phi - D.phi[prv[A]]), _wrap(along - phi)
@@ -1239,8 +1236,7 @@ def _span_beyond(D: _Rings, A: int, run: list, Dv: int, s: float):
     foot = math.atan2(*(-s * D.n[wall])[::-1])
     corner = math.atan2(*(D.v[through] - E)[::-1])
     lo, hi = (corner, foot) if after else (foot, corner)
-    touch = math.atan2(*(-s * np.array([-math.sin(phi), math.cos(phi)]))[::-1])
-    at = (s * (touch - lo)) % _TWO_PI
+    at = (s * (_touch(phi, s) - lo)) % _TWO_PI
     if not (at <= (s * (hi - lo)) % _TWO_PI + 1e-9 or at >= _TWO_PI - 1e-9):
         return None
     rep = mine[-1]
