@@ -163,6 +163,7 @@ class _Rings:
         self.merged = {}                # first corner -> run, of the runs merged into one disk (`_merge_run`)
         self._fixed = []                # pieces from a span's foot: (at, edge, start, end) (`_fixed_pieces`)
         self._offsets, self._arcs = {}, {}
+        self._edge_trees = {}
         self._sagitta = None
 
     @property
@@ -202,6 +203,20 @@ class _Rings:
         if getattr(self, "_vertex_tree", None) is None:
             self._vertex_tree = _tree(self.v)
         return self._vertex_tree
+
+    def edge_tree(self, edges: np.ndarray | None = None) -> tuple[np.ndarray, shapely.STRtree]:
+        """An STRtree over the edges of S (all, or those marked in the boolean array ``edges``), and the
+        edge numbers of its items, built once for each selection.
+
+        On a large MultiPolygon (a layer of footprints) every exact test used to build its own, and the
+        linestrings and trees cost more than the tests."""
+        key = None if edges is None else edges.tobytes()
+        cache = self._edge_trees
+        if key not in cache:
+            idx = np.arange(len(self.v)) if edges is None else np.flatnonzero(edges)
+            cache[key] = idx, shapely.STRtree(shapely.linestrings(np.stack([self.v[idx], self.v[self.next[idx]]],
+                                                                           axis=1)))
+        return cache[key]
 
     def offsets(self, side: int) -> np.ndarray:
         """Edges moved by r into S (side +1) or out of it (−1), cut at the disks' centres on that side.
@@ -545,9 +560,23 @@ def _covered(D: _Rings, pieces) -> bool:
         return True
     r = D.r
     ea, eb = D.v, D.v[D.next]
-    tree = None
-    whole = _in_one_capsule(D, pieces) if len(ea) <= _ALL_PIECES else np.zeros(len(pieces), bool)
-    for (kind, geom, keep0, keep1, own), settled in zip(pieces, whole, strict=True):
+    # The edges that can reach each piece: within r of a segment, 2r of an arc's centre (every edge of a
+    # small shape; on a large one, from an R-tree, all pieces in one query).
+    near = None
+    if len(ea) > _ALL_PIECES:
+        ends = np.array([g if kind == "seg" else (g[0], g[0]) for kind, g, *_ in pieces], dtype=float)
+        point = (ends[:, 0] == ends[:, 1]).all(axis=1)
+        probes = np.empty(len(pieces), dtype=object)
+        probes[point] = shapely.points(ends[point, 0])
+        probes[~point] = shapely.linestrings(ends[~point])
+        reach = np.array([r if kind == "seg" else 2.0 * r for kind, *_ in pieces]) * (1 + 1e-9)
+        pi, pe = D.edge_tree()[1].query(probes, predicate="dwithin", distance=reach)
+        order = np.lexsort((pe, pi))
+        pi, pe = pi[order], pe[order]
+        bounds = np.searchsorted(pi, np.arange(len(pieces) + 1))
+        near = pi, pe, bounds
+    whole = _in_one_capsule(D, pieces, near)
+    for index, ((kind, geom, keep0, keep1, own), settled) in enumerate(zip(pieces, whole, strict=True)):
         if settled:
             continue
         if kind == "seg":
@@ -558,17 +587,12 @@ def _covered(D: _Rings, pieces) -> bool:
             if sw == 0:
                 continue
             p = q = o
-        # The edges that can reach the piece: within r of a segment, 2r of an arc's centre (every pair on a
-        # small shape, an R-tree on a large one).
-        reach = (r if kind == "seg" else 2.0 * r) * (1 + 1e-9)
-        if len(ea) <= _ALL_PIECES:
+        if near is None:
             m = len(ea)
+            reach = (r if kind == "seg" else 2.0 * r) * (1 + 1e-9)
             e = np.flatnonzero(_segment_distances(np.tile(p, (m, 1)), np.tile(q, (m, 1)), ea, eb) <= reach)
         else:
-            if tree is None:
-                tree = shapely.STRtree(shapely.linestrings(np.stack([ea, eb], axis=1)))
-            probe = shapely.points(p) if (p == q).all() else shapely.linestrings([p, q])
-            e = tree.query(probe, predicate="dwithin", distance=reach)
+            e = near[1][near[2][index]:near[2][index + 1]]
         e = e[~np.isin(e, own)]
         if not len(e):
             return False
@@ -608,17 +632,22 @@ def _covered(D: _Rings, pieces) -> bool:
 _MARGIN = 1e-3       # `_in_one_capsule`: beside a kept end, the piece's other points this far (× r) inside
 
 
-def _in_one_capsule(D: _Rings, pieces) -> np.ndarray:
+def _in_one_capsule(D: _Rings, pieces, near=None) -> np.ndarray:
     """Which pieces (`_covered`'s) lie wholly in the open capsule of one edge (not their own): the common
     case, settled without the crossings. The points of a segment are convex combinations of its ends, those
     of an arc turning by less than π of its ends and of where its end tangents meet; the distance to an
     edge is convex, so it is below r all along where it is below r at those points. A kept end (exactly r
     from S) may be at r: the piece then leaves the capsule only within a fraction (rounding)/(_MARGIN·r) of
-    that end, below `_KEPT`, if its other points are _MARGIN·r inside."""
+    that end, below `_KEPT`, if its other points are _MARGIN·r inside.
+
+    ``near``: `_covered`'s candidate pairs ``(piece, edge, bounds)``, or None to try every edge. An edge
+    whose capsule holds a piece's two ends (an arc's are r from its centre) is within r of a segment, 2r of
+    an arc's centre: among the candidates."""
     r = D.r
-    pts = np.full((len(pieces), 3, 2), np.nan)
-    kept = np.zeros((len(pieces), 3), bool)
-    own = np.zeros((len(pieces), len(D.v)), bool)
+    n = len(pieces)
+    pts = np.full((n, 3, 2), np.nan)
+    kept = np.zeros((n, 3), bool)
+    own_piece, own_edge = [], []
     for i, (kind, geom, keep0, keep1, edges) in enumerate(pieces):
         if kind == "seg":
             pts[i, 0], pts[i, 2] = geom
@@ -632,19 +661,25 @@ def _in_one_capsule(D: _Rings, pieces) -> np.ndarray:
             mid = s0 + 0.5 * sw
             pts[i, 1] = o + (r / math.cos(0.5 * sw)) * np.array([math.cos(mid), math.sin(mid)])
         kept[i, 0], kept[i, 2] = keep0, keep1
-        own[i, list(edges)] = True
+        own_edge.extend(edges)
+        own_piece.extend([i] * len(edges))
     valid = ~np.isnan(pts[:, :, 0])
-    m, n = len(D.v), len(pieces)
-    x = np.where(valid[:, :, None], pts, 0.0).reshape(-1, 2)
-    d = _point_segment_distances(np.repeat(x, m, axis=0), np.tile(D.v, (3 * n, 1)),
-                                 np.tile(D.v[D.next], (3 * n, 1))).reshape(n, 3, m)
-    inside = np.where(kept[:, :, None], d <= r * (1 + 1e-12), d < r)
-    deep = np.where(kept[:, :, None], True, d < r * (1 - _MARGIN))
-    inside |= ~valid[:, :, None]
-    deep |= ~valid[:, :, None]
-    one_kept = kept.any(axis=1)
-    fits = inside.all(axis=1) & (~one_kept[:, None] | deep.all(axis=1)) & ~own
-    return fits.any(axis=1) & valid[:, [0, 2]].all(axis=1) & ~(kept[:, 0] & kept[:, 2])
+    m = len(D.v)
+    if near is None:
+        pi, pe = np.repeat(np.arange(n), m), np.tile(np.arange(m), n)
+    else:
+        pi, pe = near[0], near[1]
+    x = np.where(valid[:, :, None], pts, 0.0)[pi]                       # (pairs, 3, 2)
+    d = _point_segment_distances(x.reshape(-1, 2), np.repeat(D.v[pe], 3, axis=0),
+                                 np.repeat(D.v[D.next[pe]], 3, axis=0)).reshape(-1, 3)
+    k = kept[pi]
+    inside = np.where(k, d <= r * (1 + 1e-12), d < r) | ~valid[pi]
+    deep = np.where(k, True, d < r * (1 - _MARGIN)) | ~valid[pi]
+    own = np.isin(pi * m + pe, np.asarray(own_piece, dtype=np.int64) * m + np.asarray(own_edge, dtype=np.int64))
+    fits = inside.all(axis=1) & (~k.any(axis=1) | deep.all(axis=1)) & ~own
+    whole = np.zeros(n, bool)
+    whole[pi[fits]] = True
+    return whole & valid[:, [0, 2]].all(axis=1) & ~(kept[:, 0] & kept[:, 2])
 
 
 def _segment_crossings(p, w, circles, m, k, r) -> np.ndarray:
@@ -2205,17 +2240,17 @@ def _closer_than(D: _Rings, p: np.ndarray, q: np.ndarray, limit: float, known=No
             if _near_short_edges(D, tree, a, b, half, limit, h, short):
                 return True
     if (~short).any():
-        long_edges = shapely.linestrings(np.stack([edge_a[~short], edge_b[~short]], axis=1))
+        long_edges, tree = D.edge_tree(~short)
         # A point is probed as a point: a segment of length 0 (p = q) has no extent the tree can match,
         # and `STRtree.query` then finds no edge near it at all.
         point = (p == q).all(axis=1)
         probes = np.empty(len(p), dtype=object)
         probes[point] = shapely.points(p[point])
         probes[~point] = shapely.linestrings(np.stack([p[~point], q[~point]], axis=1))
-        hits = shapely.STRtree(long_edges).query(probes, predicate="dwithin", distance=limit)
+        hits = tree.query(probes, predicate="dwithin", distance=limit)
         if hits.shape[1]:
             i, j = hits
-            e = np.flatnonzero(~short)[j]
+            e = long_edges[j]
             if (_segment_distances(p[i], q[i], edge_a[e], edge_b[e]) < limit).any():
                 return True
     return False
@@ -2409,8 +2444,7 @@ def _reaches_edges(D: _Rings, S, side: int) -> bool:
         ai, ej = _boxes_within(centres - r, centres + r, D.v, D.v[D.next], limit)
     else:
         boxes = shapely.box(centres[:, 0] - r, centres[:, 1] - r, centres[:, 0] + r, centres[:, 1] + r)
-        edges = shapely.linestrings(np.stack([D.v, D.v[D.next]], axis=1))
-        ai, ej = shapely.STRtree(edges).query(boxes, predicate="dwithin", distance=limit)
+        ai, ej = D.edge_tree()[1].query(boxes, predicate="dwithin", distance=limit)
     # An arc's own two edges end at its centre: r from all of it.
     other = (ej != k[ai]) & (ej != D.prev[k[ai]])
     ai, ej = ai[other], ej[other]

@@ -339,8 +339,11 @@ class EdgeIndex:
                 S.append(group[hits["i"]])
                 E.append(ids[hits["j"]])
         if self.rtree is not None:
-            si, ei = self.rtree.query(shapely.linestrings(np.stack([p, q], axis=1)), predicate="dwithin",
-                                      distance=dist)
+            # Boxes grown by ``dist`` (and a margin far above rounding): the tree's own box test, with no
+            # exact distance from GEOS (which cost more than all the rest); the caller's exact test follows.
+            pad = dist + 1e-9 * (dist + float(np.abs(p).max(initial=0.0)) + float(np.abs(q).max(initial=0.0)))
+            lo, hi = np.minimum(p, q) - pad, np.maximum(p, q) + pad
+            si, ei = self.rtree.query(shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1]))
             S.append(si)
             E.append(self.long[ei])
         return np.concatenate(S), np.concatenate(E)

@@ -1126,9 +1126,18 @@ def _contacts(ctx: _Context, loops: list[_DiskLoop]):
     # Pieces of one loop that lie within 0.9·π·r of each other along it cannot touch in the surgery sense:
     # the separation along the loop of any two of their points, measured either way round, is at most the
     # span from the first one's start to the last one's end (the exact test below is then always false).
+    # Measured either way round, the separation is also at most the loop's length less the narrowest
+    # separation one way (pieces on either side of where the loop's numbering starts).
     same = owner[ia] == owner[ib]
     far = np.maximum(stop[ia], stop[ib]) - np.minimum(start[ia], start[ib])          # widest separation
-    keep = ~same | (far >= 0.9 * math.pi * r_turn)
+    near = np.maximum(0.0, np.maximum(start[ia], start[ib]) - np.minimum(stop[ia], stop[ib]))
+    keep = ~same | (np.minimum(far, totals[owner[ia]] - near) >= 0.9 * math.pi * r_turn)
+    # A segment and the arc it leaves or enters meet only where they join: the segment lies on the arc's
+    # tangent there, and a circle meets its tangent once; their nearest points are that join, no distance
+    # apart along the loop (the exact test below is then false).
+    step = np.abs(index[ia] - index[ib])
+    pieces_of = np.array([2 * L.n for L in loops])[owner[ia]]
+    keep &= ~(same & ((step == 1) | (step == pieces_of - 1)))
     out = []
     used = set()
     pieces_cache = {}
@@ -1600,7 +1609,7 @@ class Tightening:
         ctx, disk_loops, args = info
         if ctx is None:
             ctx = _Context(*args)
-            disk_loops = [_rebind(ctx, L) for L in disk_loops]
+            disk_loops = _rebind(ctx, disk_loops)
             self._cache["_exact"] = (ctx, disk_loops, args)
         return ctx, disk_loops
 
@@ -1675,13 +1684,15 @@ class _Radius:
     r: float
 
 
-def _rebind(ctx: _Context, L: _DiskLoop) -> _DiskLoop:
-    """The same loop with its disks numbered as the context's centres (−1 where none coincides)."""
-    if len(ctx.cxy) == 0:
-        return L
-    d, j = cKDTree(ctx.cxy).query(L.c)
+def _rebind(ctx: _Context, disk_loops: list[_DiskLoop]) -> list[_DiskLoop]:
+    """The same loops with their disks numbered as the context's centres (−1 where none coincides)."""
+    if len(ctx.cxy) == 0 or not disk_loops:
+        return disk_loops
+    d, j = cKDTree(ctx.cxy).query(np.concatenate([L.c for L in disk_loops]))
     cid = np.where(d <= 1e-9 * ctx.r, j, -1)
-    return _DiskLoop(cid, L.side, L.c, L.phi, L.length, L.sweep, L.r, L.converged)
+    cut = np.cumsum([L.n for L in disk_loops])[:-1]
+    return [_DiskLoop(k, L.side, L.c, L.phi, L.length, L.sweep, L.r, L.converged)
+            for k, L in zip(np.split(cid, cut), disk_loops, strict=True)]
 
 
 def _exact_containment(ctx: _Context, frame: _Frame, T, loops: list[Loop], tol: float,
