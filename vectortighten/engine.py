@@ -38,7 +38,7 @@ from . import _convex, _fast
 from . import morphology as _m
 from ._pieces import piece_distance, piece_distances
 from ._proximity import EdgeIndex, PointIndex, point_segment_distance
-from ._guard import guarded_tighten
+from ._guard import core_vanishes, guarded_tighten
 from ._validation import check_output_size, check_radius, check_resolution, check_shape, check_tolerance, \
     quad_segs_for
 from .centers import ArcCenters, boundary_edges, exact_centers, missing_lines, snap_onto, snap_window
@@ -1559,6 +1559,8 @@ class Tightening:
             if not self.geometry.is_valid:
                 problems.append(f"(b) geometry is invalid: {shapely.is_valid_reason(self.geometry)}")
             return problems
+        if self._cache.get("_path") == "empty" and not self.loops and _no_disk_fits(self.shape, self.r):
+            return []           # no r-disk fits in S: the core is empty, and so is every loop
         problems: list[str] = []
         r, tol = self.r, self.tolerance
         T = self.geometry
@@ -1675,6 +1677,15 @@ class Tightening:
         if _contacts(_Radius(r_l), disk_loops):
             problems.append("(b) two loops (or two parts of one) touch")
         return problems
+
+
+def _no_disk_fits(S, r: float) -> bool:
+    """Whether no disk of radius r fits in S, by GEOS's maximum inscribed circle of each part (found to
+    within 0.05·r; a method of its own, not the buffer `core_vanishes` reads). False also where it cannot
+    tell (a part within 0.05·r of fitting one), and the exact check is made instead."""
+    step = 0.05 * r
+    radius = shapely.length(shapely.maximum_inscribed_circle(shapely.get_parts(S), step))
+    return bool((radius + step < r).all())
 
 
 @dataclass(frozen=True)
@@ -1962,6 +1973,10 @@ def _split_fast(S, r: float, q: int, init: str, precision: float, frame: _Frame,
         if fast is None and len(g) == 1:
             loop = _convex.convex_disk_loop(G, r)
             fast, path = ([loop], "convex") if loop is not None else (None, path)
+        if fast is None and init == Init.CORE.value and core_vanishes(G, r):
+            # No core, no loop: the group's tightening from the core is empty (an islet, a speck).
+            done.append((G, "empty", [], [], Polygon()))
+            continue
         got = _fast_result(fast, frame, r, tol) if fast is not None else (None,)
         if got[0] is None:
             rest.extend(parts[g])
@@ -1992,6 +2007,11 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
         disk_loops, loops, geometry = _fast_result(fast, frame, r_l, tol)
         if disk_loops is None:
             fast = None
+    if fast is None and allow_fast and init is Init.CORE and core_vanishes(S_local, r_l):
+        # No core (every part thinner than about 1.9r): the tightening from it is empty, and the general
+        # engine need not build the exact centres to find that out (`Tightening.verify` still does).
+        fast, path = [], "empty"
+        disk_loops, loops, geometry = [], [], Polygon()
     if fast is None and allow_fast and isinstance(S_local, MultiPolygon):
         # Parts far apart are tightened alone: those the fast path takes need no general engine.
         split = _split_fast(S_local, r_l, q_exact, init.value, precision, frame, tol)
