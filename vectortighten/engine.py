@@ -1679,13 +1679,21 @@ class Tightening:
         return problems
 
 
+#: `_no_disk_fits` shrinks by this share of r (GEOS may move a buffer's input by a hundredth of the distance).
+_SHRINK_PROOF = 0.95
+
+
 def _no_disk_fits(S, r: float) -> bool:
-    """Whether no disk of radius r fits in S, by GEOS's maximum inscribed circle of each part (found to
-    within 0.05·r; a method of its own, not the buffer `core_vanishes` reads). False also where it cannot
-    tell (a part within 0.05·r of fitting one), and the exact check is made instead."""
-    step = 0.05 * r
-    radius = shapely.length(shapely.maximum_inscribed_circle(shapely.get_parts(S), step))
-    return bool((radius + step < r).all())
+    """Whether no disk of radius r fits in S, by one buffer: ``S.buffer(-0.95·r)`` empty (a method of its
+    own, not the inscribed circles `_guard.core_vanishes` reads). False also where it cannot tell (a part
+    within 5 % of r of holding such a disk), and the exact check is made instead.
+
+    The buffer can only err towards "not empty": GEOS draws the arcs of a shrink (about the reflex vertices
+    of S) as chords with their ends on the arcs, which remove less than the arcs, and it simplifies its
+    input by at most a hundredth of the distance. So a point at least r from S's complement is more than
+    0.04·r inside what it returns, with a disk of that radius around it.
+    """
+    return bool(shapely.buffer(S, -_SHRINK_PROOF * r).is_empty)
 
 
 @dataclass(frozen=True)
@@ -2008,8 +2016,8 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
         if disk_loops is None:
             fast = None
     if fast is None and allow_fast and init is Init.CORE and core_vanishes(S_local, r_l):
-        # No core (every part thinner than about 1.9r): the tightening from it is empty, and the general
-        # engine need not build the exact centres to find that out (`Tightening.verify` still does).
+        # No core (no r-disk fits in S): the tightening from it is empty, and the general engine need not
+        # build the exact centres to find that out (`Tightening.verify` proves it again its own way).
         fast, path = [], "empty"
         disk_loops, loops, geometry = [], [], Polygon()
     if fast is None and allow_fast and isinstance(S_local, MultiPolygon):
