@@ -12,7 +12,7 @@ import vectortighten as vt
 from vectortighten import engine
 from vectortighten._guard import core_vanishes
 
-from .engines import assert_same, general
+from .engines import assert_exact, assert_same, general
 from .test_split import comb, star
 
 
@@ -40,6 +40,7 @@ def test_a_shape_without_core_tightens_to_nothing_without_the_general_engine(S):
     G = general(S, 1.0)                       # the general engine finds no loop either
     assert G.geometry.is_empty and G.loops == []
     assert engine._no_disk_fits(S, 1.0)
+    assert_exact(S, 1.0, T)                   # the independent oracle finds no core to miss
 
 
 def test_a_core_just_wider_than_nothing_is_not_taken_for_empty():
@@ -73,6 +74,7 @@ def test_far_apart_islets_drop_out_of_a_split_and_are_verified():
     assert paths == ["empty"] * 4 + ["fast", "general"]
     assert T.converged and T.verify() == []
     assert_same(T, general(S, 1.0))
+    assert_exact(S, 1.0, T)
 
 
 def test_verify_of_an_empty_result_falls_back_to_the_exact_check(monkeypatch):
