@@ -18,8 +18,6 @@ import json
 import statistics
 import subprocess
 import sys
-import time
-import warnings
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -48,17 +46,12 @@ def child(tree: str) -> None:
     todo = cases()
     use_tree(tree)
     import vectortighten as vt
+    from verify_cost import tighten_and_verify
 
     out = {}
     for name, (S, r) in todo.items():
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            t0 = time.process_time()
-            T = vt.tighten(S, r)
-            t1 = time.process_time()
-            problems = T.verify()
-            t2 = time.process_time()
-        out[name] = (t1 - t0, t2 - t1, len(problems), T._cache.get("_path", "?"))
+        tighten_s, verify_s, problems, path = tighten_and_verify(vt, S, r)
+        out[name] = (tighten_s, verify_s, len(problems), path)
     print(json.dumps(out))
 
 
@@ -69,20 +62,19 @@ def main(argv=None) -> None:
     ap.add_argument("--rounds", type=int, default=3)
     args = ap.parse_args(argv)
     trees = [args.before, args.after]
-    runs = {t: [] for t in trees}
+    runs = [[], []]
     for k in range(args.rounds):
-        for tree in trees if k % 2 == 0 else trees[::-1]:
-            done = subprocess.run([sys.executable, __file__, "--child", tree], capture_output=True, text=True,
-                                  check=True)
-            runs[tree].append(json.loads(done.stdout.strip().splitlines()[-1]))
+        for i in (0, 1) if k % 2 == 0 else (1, 0):
+            done = subprocess.run([sys.executable, __file__, "--child", trees[i]], capture_output=True,
+                                  text=True, check=True)
+            runs[i].append(json.loads(done.stdout.strip().splitlines()[-1]))
     print("| shape | path | tighten before (s) | after | verify before (s) | after | verify / tighten after "
           "| problems before, after |")
     print("|---|---|---:|---:|---:|---:|---:|---|")
-    for name in runs[trees[0]][0]:
-        med = [[statistics.median(run[name][i] for run in runs[t]) for i in (0, 1)] for t in trees]
-        print(f"| {name} | {runs[trees[1]][0][name][3]} | {med[0][0]:.3f} | {med[1][0]:.3f} | {med[0][1]:.3f} | "
-              f"{med[1][1]:.3f} | {med[1][1] / med[1][0]:.2f} | {runs[trees[0]][0][name][2]}, "
-              f"{runs[trees[1]][0][name][2]} |")
+    for name in runs[0][0]:
+        med = [[statistics.median(run[name][i] for run in runs[t]) for i in (0, 1)] for t in (0, 1)]
+        print(f"| {name} | {runs[1][0][name][3]} | {med[0][0]:.3f} | {med[1][0]:.3f} | {med[0][1]:.3f} | "
+              f"{med[1][1]:.3f} | {med[1][1] / med[1][0]:.2f} | {runs[0][0][name][2]}, {runs[1][0][name][2]} |")
 
 
 if __name__ == "__main__":

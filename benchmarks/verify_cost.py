@@ -63,6 +63,18 @@ def cases():
     return out
 
 
+def tighten_and_verify(vt, S, r: float):
+    """CPU seconds of ``vt.tighten(S, r)`` and of a first ``verify()`` of it, verify's findings, the path."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        t0 = time.process_time()
+        T = vt.tighten(S, r)
+        t1 = time.process_time()
+        problems = T.verify()
+        t2 = time.process_time()
+    return t1 - t0, t2 - t1, problems, T._cache.get("_path", "?")
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--src", default=None)
@@ -77,17 +89,10 @@ def main(argv=None) -> None:
 
     rows, ratios = [], {"fast": [], "general": [], "convex": []}
     for group, name, S, r in todo:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            t0 = time.process_time()
-            T = vt.tighten(S, r)
-            t1 = time.process_time()
-            problems = T.verify()
-            t2 = time.process_time()
-        path = T._cache.get("_path", "?")
-        ratio = (t2 - t1) / max(t1 - t0, 1e-6)
+        tighten_s, verify_s, problems, path = tighten_and_verify(vt, S, r)
+        ratio = verify_s / max(tighten_s, 1e-6)
         ratios.setdefault(path, []).append(ratio)
-        rows.append(f"| {group} | {name} | {path} | {t1 - t0:.3f} | {t2 - t1:.3f} | {ratio:.2f} | "
+        rows.append(f"| {group} | {name} | {path} | {tighten_s:.3f} | {verify_s:.3f} | {ratio:.2f} | "
                     f"{'clean' if not problems else problems[0][:50]} |")
         print(rows[-1], flush=True)
     lines = [f"vectortighten from `{vt.__file__}`; {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; CPU s.",
