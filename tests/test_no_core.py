@@ -1,7 +1,7 @@
 """Shapes (and far-apart groups of parts) with no core: their tightening from the core is empty, found by
 GEOS's maximum inscribed circles (`_guard.core_vanishes`) instead of the general engine, and
-`Tightening.verify` proves the empty core by a method of its own (a buffer, `engine._no_disk_fits`) or,
-where that cannot tell, by the exact check."""
+`Tightening.verify` proves the empty core by a method of its own: S's exact shrink has no piece and no
+corner (`engine._shrink_is_empty`)."""
 
 import numpy as np
 import pytest
@@ -10,10 +10,17 @@ from shapely.geometry import MultiPolygon, Point, Polygon, box
 
 import vectortighten as vt
 from vectortighten import engine
+from vectortighten import morphology as M
 from vectortighten._guard import core_vanishes
 
 from .engines import assert_exact, assert_same, general
 from .test_split import comb, star
+
+
+def local(T):
+    """The shape, radius and precision of a result in the engine's local frame (`_shrink_is_empty`'s)."""
+    S_local, r_l, _, precision = T._cache["_exact"][2]
+    return S_local, r_l, precision
 
 
 def spiral(width, turns=3.0, n=2000, x0=0.0):
@@ -39,7 +46,7 @@ def test_a_shape_without_core_tightens_to_nothing_without_the_general_engine(S):
     assert T.converged and T.verify() == []
     G = general(S, 1.0)                       # the general engine finds no loop either
     assert G.geometry.is_empty and G.loops == []
-    assert engine._no_disk_fits(S, 1.0)
+    assert engine._shrink_is_empty(*local(T))
     assert_exact(S, 1.0, T)                   # the independent oracle finds no core to miss
 
 
@@ -50,9 +57,9 @@ def test_a_core_just_wider_than_nothing_is_not_taken_for_empty():
     T = vt.tighten(S, 1.0)
     assert T._cache["_path"] != "empty" and T.area > 0
     assert_same(T, general(S, 1.0))
-    # A strip just under 2r wide has no core, within 1 % of r: the inscribed circles do not claim it, nor
-    # does verify's buffer (within 5 %); the engine and the exact check find it empty.
-    assert not core_vanishes(annulus(1.995), 1.0) and not engine._no_disk_fits(annulus(1.995), 1.0)
+    # A strip just under 2r wide has no core, within 1 % of r: the inscribed circles do not claim it; the
+    # engine and the exact check find it empty.
+    assert not core_vanishes(annulus(1.995), 1.0)
     T = vt.tighten(annulus(1.995), 1.0)
     assert T.geometry.is_empty and T._cache["_path"] != "empty" and T.verify() == []
 
@@ -80,29 +87,29 @@ def test_far_apart_islets_drop_out_of_a_split_and_are_verified():
 def test_verify_of_an_empty_result_falls_back_to_the_exact_check(monkeypatch):
     S = spiral(1.6)
     T = vt.tighten(S, 1.0)
-    monkeypatch.setattr(engine, "_no_disk_fits", lambda S, r: False)
-    assert T.verify() == []                   # the exact offsets find no core either
+    monkeypatch.setattr(engine, "_shrink_is_empty", lambda *args: False)
+    assert T.verify() == []                   # the full exact check finds no core either
 
 
 def test_verify_finds_a_core_that_an_empty_result_misses():
-    # An empty result claimed for a shape that has a core: both proofs of emptiness fail, and the exact
-    # check names the missed core.
-    S = box(0, 0, 10, 10).union(box(10, 0, 40, 1.5))
+    # An empty result claimed for a shape that has a core: verify's proof of emptiness fails, and the full
+    # exact check names the missed core.
+    S = shapely.orient_polygons(box(0, 0, 10, 10).union(box(10, 0, 40, 1.5)), exterior_cw=False)  # as checked
     frame = engine._Frame.of(S)
     S_local = frame.to_local(S)
     T = engine.Tightening(loops=[], geometry=Polygon(), r=1.0, init="core", tolerance=1e-5, shape=S)
     T._cache.update(_exact=(None, [], (S_local, 1.0 / frame.scale, 1e-5 / frame.scale,
                                        engine.precision_of(S) / frame.scale)),
                     _frame=frame, _path="empty")
-    assert not engine._no_disk_fits(S, 1.0)
+    assert not engine._shrink_is_empty(*local(T))
     problems = T.verify()
     assert any(p.startswith("(a) the tightening misses") for p in problems), problems
 
 
 def test_core_vanishes_errs_only_towards_not_empty():
     # Random thin and thick polygons: whenever the inscribed circles claim no core, the general engine
-    # finds none and no r-disk fits (the maximum inscribed circle, to 1e-4·r, is below r; verify's buffer
-    # agrees).
+    # finds none and no r-disk fits (the maximum inscribed circle, to 1e-4·r, is below r; S's exact shrink
+    # has no piece and no corner).
     rng = np.random.default_rng(7)
     claimed = 0
     for _ in range(40):
@@ -117,5 +124,5 @@ def test_core_vanishes_errs_only_towards_not_empty():
             claimed += 1
             assert shapely.maximum_inscribed_circle(P, 1e-4).length < 1.0
             assert general(P, 1.0).geometry.is_empty
-            assert engine._no_disk_fits(P, 1.0) or shapely.maximum_inscribed_circle(P, 1e-4).length > 0.9
+            assert engine._shrink_is_empty(M._orient(P), 1.0, None)          # exactly: no piece, no corner
     assert claimed >= 5

@@ -1559,8 +1559,10 @@ class Tightening:
             if not self.geometry.is_valid:
                 problems.append(f"(b) geometry is invalid: {shapely.is_valid_reason(self.geometry)}")
             return problems
-        if self._cache.get("_path") == "empty" and not self.loops and _no_disk_fits(self.shape, self.r):
-            return []           # no r-disk fits in S: the core is empty, and so is every loop
+        if self._cache.get("_path") == "empty" and not self.loops:
+            S_local, r_l, _, precision = self._cache["_exact"][2]
+            if _shrink_is_empty(S_local, r_l, precision):
+                return []       # no r-disk fits in S: the core is empty, and so is every loop
         problems: list[str] = []
         r, tol = self.r, self.tolerance
         T = self.geometry
@@ -1679,21 +1681,13 @@ class Tightening:
         return problems
 
 
-#: `_no_disk_fits` shrinks by this share of r (GEOS may move a buffer's input by a hundredth of the distance).
-_SHRINK_PROOF = 0.95
+def _shrink_is_empty(S_local, r_l: float, precision: float | None) -> bool:
+    """Whether the exact shrink ``S↓r`` has no piece and no corner (`offsets.exact_offsets`, side +1): no
+    r-disk fits in S, decided exactly and by a method of its own (not the inscribed circles of
+    `_guard.core_vanishes`). Arguments in the engine's local frame, as `Tightening._cache` keeps them."""
+    from .offsets import exact_offsets
 
-
-def _no_disk_fits(S, r: float) -> bool:
-    """Whether no disk of radius r fits in S, by one buffer: ``S.buffer(-0.95·r)`` empty (a method of its
-    own, not the inscribed circles `_guard.core_vanishes` reads). False also where it cannot tell (a part
-    within 5 % of r of holding such a disk), and the exact check is made instead.
-
-    The buffer can only err towards "not empty": GEOS draws the arcs of a shrink (about the reflex vertices
-    of S) as chords with their ends on the arcs, which remove less than the arcs, and it simplifies its
-    input by at most a hundredth of the distance. So a point at least r from S's complement is more than
-    0.04·r inside what it returns, with a disk of that radius around it.
-    """
-    return bool(shapely.buffer(S, -_SHRINK_PROOF * r).is_empty)
+    return len(exact_offsets(S_local, r_l, 1, precision=precision).test_points()) == 0
 
 
 @dataclass(frozen=True)
