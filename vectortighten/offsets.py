@@ -506,7 +506,9 @@ class _Elements:
         rest = np.flatnonzero(~deep)
         if len(rest):
             d, _ = self.clearance(xy[rest])
-            out[rest] = (d >= self.r - self.eps) & self.on_side(xy[rest])
+            clear = d >= self.r - self.eps
+            clear[clear] = self.on_side(xy[rest][clear])      # only the clear ones: a point-in-polygon
+            out[rest] = clear                                   # test costs O(n) a point on a comb
         return out
 
     def on_side(self, xy) -> np.ndarray:
@@ -851,7 +853,8 @@ def exact_offsets(S, r: float, side: int = 1, _brute: bool = False, *,
             d2[whole] = d[c][row[whole]]
             d2[~whole] = X.clearance(xy[~whole])[0]
             clear = d2 >= r - eps
-            ok = clear & X.on_side(xy)
+            ok = clear.copy()
+            ok[clear] = X.on_side(xy[clear])
             final_el.append(e2[ok]), final_lo.append(b0[ok]), final_hi.append(b1[ok])
             nxt_el.append(e2[~clear]), nxt_lo.append(b0[~clear]), nxt_hi.append(b1[~clear])
         el = np.concatenate(nxt_el) if nxt_el else np.zeros(0, np.int64)
