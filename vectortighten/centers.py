@@ -289,10 +289,15 @@ def missing_lines(X, P, r: float, far_r: float, max_angle: float):
         shapely.prepare(P)                  # one predicate a point: indexed, not a scan of P per point
         keep = ~shapely.dwithin(P, pts, far)
     else:
-        shapely.prepare(P)
         B = P.boundary
         shapely.prepare(B)
-        keep = shapely.contains(P, pts) & ~shapely.dwithin(B, pts, far)
+        keep = ~shapely.dwithin(B, pts, far)
+        # Inside the grow only where it matters: nearly every piece lies on the grow's boundary, and a
+        # point-in-polygon test costs O(n) a point where many edges span one height (a comb's teeth).
+        if keep.sum() > 16:
+            shapely.prepare(P)                  # indexed, for many points
+        if keep.any():
+            keep[keep] = shapely.contains(P, pts[keep])
     if not keep.any():
         return None
     geoms = [shapely.linestrings(pl) for pl, k in zip(lines, keep[:len(lines)]) if k]
