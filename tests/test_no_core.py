@@ -1,7 +1,7 @@
 """Shapes (and far-apart groups of parts) with no core: their tightening from the core is empty, found by
 GEOS's maximum inscribed circles (`_guard.core_vanishes`) instead of the general engine, and
-`Tightening.verify` proves the empty core by a method of its own: S's exact shrink has no piece and no
-corner (`engine._shrink_is_empty`)."""
+`Tightening.verify` proves the empty core again from S's exact shrink (no piece, no corner:
+`offsets.shrink_is_empty`)."""
 
 import numpy as np
 import pytest
@@ -10,15 +10,15 @@ from shapely.geometry import MultiPolygon, Point, Polygon, box
 
 import vectortighten as vt
 from vectortighten import engine
-from vectortighten import morphology as M
 from vectortighten._guard import core_vanishes
+from vectortighten.offsets import shrink_is_empty
 
 from .engines import assert_exact, assert_same, general
 from .test_split import comb, star
 
 
 def local(T):
-    """The shape, radius and precision of a result in the engine's local frame (`_shrink_is_empty`'s)."""
+    """The shape, radius and precision of a result in the engine's local frame (`shrink_is_empty`'s)."""
     S_local, r_l, _, precision = T._cache["_exact"][2]
     return S_local, r_l, precision
 
@@ -46,7 +46,7 @@ def test_a_shape_without_core_tightens_to_nothing_without_the_general_engine(S):
     assert T.converged and T.verify() == []
     G = general(S, 1.0)                       # the general engine finds no loop either
     assert G.geometry.is_empty and G.loops == []
-    assert engine._shrink_is_empty(*local(T))
+    assert shrink_is_empty(*local(T))
     assert_exact(S, 1.0, T)                   # the independent oracle finds no core to miss
 
 
@@ -57,11 +57,12 @@ def test_a_core_just_wider_than_nothing_is_not_taken_for_empty():
     T = vt.tighten(S, 1.0)
     assert T._cache["_path"] != "empty" and T.area > 0
     assert_same(T, general(S, 1.0))
-    # A strip just under 2r wide has no core, within 1 % of r: the inscribed circles do not claim it; the
-    # engine and the exact check find it empty.
-    assert not core_vanishes(annulus(1.995), 1.0)
+    # A strip just under 2r wide has no core (the exact shrink says so, as the general engine does); one
+    # exactly 2r wide has its centre line.
+    assert core_vanishes(annulus(1.995), 1.0) and general(annulus(1.995), 1.0).geometry.is_empty
     T = vt.tighten(annulus(1.995), 1.0)
-    assert T.geometry.is_empty and T._cache["_path"] != "empty" and T.verify() == []
+    assert T.geometry.is_empty and T._cache["_path"] == "empty" and T.verify() == []
+    assert not core_vanishes(box(0, 0, 30, 2.0).union(box(0, 0, 2.0, 30)), 1.0)
 
 
 @pytest.mark.parametrize("init", ["input", "mason"])
@@ -87,7 +88,7 @@ def test_far_apart_islets_drop_out_of_a_split_and_are_verified():
 def test_verify_of_an_empty_result_falls_back_to_the_exact_check(monkeypatch):
     S = spiral(1.6)
     T = vt.tighten(S, 1.0)
-    monkeypatch.setattr(engine, "_shrink_is_empty", lambda *args: False)
+    monkeypatch.setattr(engine, "shrink_is_empty", lambda *args: False)
     assert T.verify() == []                   # the full exact check finds no core either
 
 
@@ -101,15 +102,14 @@ def test_verify_finds_a_core_that_an_empty_result_misses():
     T._cache.update(_exact=(None, [], (S_local, 1.0 / frame.scale, 1e-5 / frame.scale,
                                        engine.precision_of(S) / frame.scale)),
                     _frame=frame, _path="empty")
-    assert not engine._shrink_is_empty(*local(T))
+    assert not shrink_is_empty(*local(T))
     problems = T.verify()
     assert any(p.startswith("(a) the tightening misses") for p in problems), problems
 
 
 def test_core_vanishes_errs_only_towards_not_empty():
     # Random thin and thick polygons: whenever the inscribed circles claim no core, the general engine
-    # finds none and no r-disk fits (the maximum inscribed circle, to 1e-4·r, is below r; S's exact shrink
-    # has no piece and no corner).
+    # finds none and no r-disk fits (the maximum inscribed circle, to 1e-4·r, is below r).
     rng = np.random.default_rng(7)
     claimed = 0
     for _ in range(40):
@@ -124,5 +124,15 @@ def test_core_vanishes_errs_only_towards_not_empty():
             claimed += 1
             assert shapely.maximum_inscribed_circle(P, 1e-4).length < 1.0
             assert general(P, 1.0).geometry.is_empty
-            assert engine._shrink_is_empty(M._orient(P), 1.0, None)          # exactly: no piece, no corner
     assert claimed >= 5
+
+
+def test_a_disk_that_geos_inscribed_circle_misses_on_a_long_strip_is_still_found():
+    # A strip 1.4r wide and 5·10⁴·r long, drawn with 2.5·10⁴ vertices, with one blob 1.4r in radius: no
+    # sampled edge middle lies in the blob, and GEOS's maximum inscribed circle stops its search (2000 +
+    # 2000·ln of size over tolerance cells) at the strip's 0.7r. The exact shrink finds the blob's core.
+    L = 50_000.0
+    S = shapely.segmentize(box(0, 0, L, 1.4), 4.0).union(Point(0.37 * L + 0.3, 0.7).buffer(1.4, quad_segs=8))
+    assert shapely.maximum_inscribed_circle(S, 0.25).length < 0.75       # GEOS's search, cut short
+    assert not shrink_is_empty(S, 1.0)
+    assert not core_vanishes(S, 1.0)

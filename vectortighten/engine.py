@@ -46,7 +46,7 @@ from ._zero_radius import zero_entries
 from .curves import Arc, Loop, Segment, arc_sweeps, tangent_directions
 from .errors import ConvergenceWarning
 from .geodesic import Triangulation, closed_geodesic, sleeve, triangulate
-from .offsets import precision_of
+from .offsets import precision_of, shrink_is_empty
 from .tolerances import CENTRE_ROUNDING_R, CORNER_ANGLE, DOMAIN_CHORD_R, EXACT_CHORD_R, GUIDE_MISSING_R, \
     OBSTACLE_SAG_R, THICKEN_R, TOUCH_SCALE, VERIFY_DEPTH_R, ZERO_SCALE, rounding_length
 
@@ -1561,8 +1561,8 @@ class Tightening:
             return problems
         if self._cache.get("_path") == "empty" and not self.loops:
             S_local, r_l, _, precision = self._cache["_exact"][2]
-            if _shrink_is_empty(S_local, r_l, precision):
-                return []       # no r-disk fits in S: the core is empty, and so is every loop
+            if shrink_is_empty(S_local, r_l, precision):
+                return []       # no r-disk fits in S (exactly): the core is empty, and so is every loop
         problems: list[str] = []
         r, tol = self.r, self.tolerance
         T = self.geometry
@@ -1679,15 +1679,6 @@ class Tightening:
         if _contacts(_Radius(r_l), disk_loops):
             problems.append("(b) two loops (or two parts of one) touch")
         return problems
-
-
-def _shrink_is_empty(S_local, r_l: float, precision: float | None) -> bool:
-    """Whether the exact shrink ``S↓r`` has no piece and no corner (`offsets.exact_offsets`, side +1): no
-    r-disk fits in S, decided exactly and by a method of its own (not the inscribed circles of
-    `_guard.core_vanishes`). Arguments in the engine's local frame, as `Tightening._cache` keeps them."""
-    from .offsets import exact_offsets
-
-    return len(exact_offsets(S_local, r_l, 1, precision=precision).test_points()) == 0
 
 
 @dataclass(frozen=True)
@@ -1975,7 +1966,7 @@ def _split_fast(S, r: float, q: int, init: str, precision: float, frame: _Frame,
         if fast is None and len(g) == 1:
             loop = _convex.convex_disk_loop(G, r)
             fast, path = ([loop], "convex") if loop is not None else (None, path)
-        if fast is None and init == Init.CORE.value and core_vanishes(G, r):
+        if fast is None and init == Init.CORE.value and core_vanishes(G, r, precision):
             # No core, no loop: the group's tightening from the core is empty (an islet, a speck).
             done.append((G, "empty", [], [], Polygon()))
             continue
@@ -2009,7 +2000,7 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
         disk_loops, loops, geometry = _fast_result(fast, frame, r_l, tol)
         if disk_loops is None:
             fast = None
-    if fast is None and allow_fast and init is Init.CORE and core_vanishes(S_local, r_l):
+    if fast is None and allow_fast and init is Init.CORE and core_vanishes(S_local, r_l, precision):
         # No core (no r-disk fits in S): the tightening from it is empty, and the general engine need not
         # build the exact centres to find that out (`Tightening.verify` proves it again its own way).
         fast, path = [], "empty"

@@ -724,6 +724,30 @@ _SPLIT_MAX_R = 4.0              # … unless it is longer than this (relative to
 _FEW_EDGES = 16                 # … or no more edges than this lie near it (then it is cut at once)
 
 
+def shrink_is_empty(S, r: float, precision: float | None = None) -> bool:
+    """Whether no disk of radius r fits in S: its exact shrink ``S↓r`` has no piece and no corner.
+
+    Exact (`exact_offsets`, side +1), O(n log n) in S's vertices.
+
+    Parameters
+    ----------
+    S : shapely Polygon or MultiPolygon
+        Valid, in any units (oriented here).
+    r : float
+        The radius, > 0, in S's units.
+    precision : float, optional
+        As `exact_offsets`'s.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> shrink_is_empty(box(0, 0, 100, 1.99), 1.0), shrink_is_empty(box(0, 0, 100, 2.0), 1.0)
+    (True, False)
+    """
+    S = shapely.orient_polygons(S, exterior_cw=False)
+    return len(exact_offsets(S, r, 1, precision=precision).test_points()) == 0
+
+
 def exact_offsets(S, r: float, side: int = 1, _brute: bool = False, *,
                   precision: float | None = None) -> OffsetPieces:
     """The exact boundary pieces and corners of ``S↓r`` (``side=1``) or of ``(S^c)↓r`` (``side=-1``).
