@@ -35,7 +35,8 @@ def cases():
             "wavy star 20k": (Polygon(np.column_stack([rad * np.cos(t), rad * np.sin(t)])), 0.3),
             "disk union 4k": (bf.disk_union(4337), 1.0), "coastline 10k": (bf.coastline(10_000), 1.5),
             "harmonic star 10k": (bf.harmonic_star(10_000), 1.0), "comb 5k": (bf.comb(10_000), 1.0),
-            "spiral strip 10k": (bf.spiral_strip(10_000), 1.0), "jagged star 10k": (bf.jagged_star(10_000), 0.5),
+            "spiral strip 10k": (bf.spiral_strip(10_000), 1.0),
+            "jagged star 10k": (bf.jagged_star(10_000), 0.5),
             "traced outline 10k": (bf.traced_outline(10_000), 0.6)}
 
 
@@ -74,7 +75,8 @@ def main(argv=None) -> None:
     for name in runs[0][0]:
         med = [[statistics.median(run[name][i] for run in runs[t]) for i in (0, 1)] for t in (0, 1)]
         print(f"| {name} | {runs[1][0][name][3]} | {med[0][0]:.3f} | {med[1][0]:.3f} | {med[0][1]:.3f} | "
-              f"{med[1][1]:.3f} | {med[1][1] / med[1][0]:.2f} | {runs[0][0][name][2]}, {runs[1][0][name][2]} |")
+              f"{med[1][1]:.3f} | {med[1][1] / med[1][0]:.2f} | "
+              f"{runs[0][0][name][2]}, {runs[1][0][name][2]} |")
 
 
 if __name__ == "__main__":

@@ -214,8 +214,8 @@ class _Rings:
         cache = self._edge_trees
         if key not in cache:
             idx = np.arange(len(self.v)) if edges is None else np.flatnonzero(edges)
-            cache[key] = idx, shapely.STRtree(shapely.linestrings(np.stack([self.v[idx], self.v[self.next[idx]]],
-                                                                           axis=1)))
+            lines = shapely.linestrings(np.stack([self.v[idx], self.v[self.next[idx]]], axis=1))
+            cache[key] = idx, shapely.STRtree(lines)
         return cache[key]
 
     def offsets(self, side: int) -> np.ndarray:
@@ -675,7 +675,8 @@ def _in_one_capsule(D: _Rings, pieces, near=None) -> np.ndarray:
     k = kept[pi]
     inside = np.where(k, d <= r * (1 + 1e-12), d < r) | ~valid[pi]
     deep = np.where(k, True, d < r * (1 - _MARGIN)) | ~valid[pi]
-    own = np.isin(pi * m + pe, np.asarray(own_piece, dtype=np.int64) * m + np.asarray(own_edge, dtype=np.int64))
+    own_keys = np.asarray(own_piece, dtype=np.int64) * m + np.asarray(own_edge, dtype=np.int64)
+    own = np.isin(pi * m + pe, own_keys)
     fits = inside.all(axis=1) & (~k.any(axis=1) | deep.all(axis=1)) & ~own
     whole = np.zeros(n, bool)
     whole[pi[fits]] = True

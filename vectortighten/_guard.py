@@ -67,8 +67,8 @@ def core_vanishes(S, r: float, precision: float | None = None) -> bool:
     points r + 1e-6·r inside the middles of 256 of S's edges, then at the centre of GEOS's maximum inscribed
     circle of each part (found to r/4). Where neither turns one up, S's exact shrink decides
     (`offsets.shrink_is_empty`: no piece and no corner). GEOS's circle alone cannot prove that none fits:
-    its search stops after 2000 + 2000·ln(size / tolerance) cells, and on a strip 10⁵·r long it returned
-    0.7·r beside a disk of 1.4·r.
+    its search stops after 2000 + 2000·ln(size / tolerance) cells, and on a strip 5·10⁴·r long it
+    returned 0.7·r beside a disk of 1.4·r.
 
     Parameters
     ----------
@@ -276,7 +276,7 @@ def containment_problems(result) -> list[str]:
     if cache.get("_path") == "empty" and not result.loops:
         # No r-disk fits in S (`core_vanishes` proved it from S's exact shrink): the core and T are
         # empty, and T lies in the fillet. Buffering S to see that again costs as much as an opening and a
-        # closing (4.8 s on a 100k-vertex spiral strip); `Tightening.verify` proves it its own way.
+        # closing (4.8 s on a 100k-vertex spiral strip); `Tightening.verify` asks the exact shrink again.
         return []
     problems = _containment_problems(result, _COARSE_QUAD_SEGS)
     if problems and cache.get("_path") in ("fast", "convex"):

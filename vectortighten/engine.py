@@ -2002,7 +2002,7 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
             fast = None
     if fast is None and allow_fast and init is Init.CORE and core_vanishes(S_local, r_l, precision):
         # No core (no r-disk fits in S): the tightening from it is empty, and the general engine need not
-        # build the exact centres to find that out (`Tightening.verify` proves it again its own way).
+        # build the exact centres to find that out (`Tightening.verify` asks the exact shrink again).
         fast, path = [], "empty"
         disk_loops, loops, geometry = [], [], Polygon()
     if fast is None and allow_fast and isinstance(S_local, MultiPolygon):
