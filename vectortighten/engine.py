@@ -57,6 +57,10 @@ _ANGLE_EPS = 1e-9
 _MAX_FINISH_STEPS = 200
 _MAX_SURGERY_ROUNDS = 64
 _OBSTACLE_BOX_PAIRS = 1 << 18    # `_Context.oindex`: up to this many pairs, candidates by boxes
+# `_annulus_loop`: the anticore disks within this many r of the core's boundary start the finish, which
+# gets this many rounds of exact checks (the loops it settles on took at most four on every family).
+_ANNULUS_REACH = 3.0
+_ANNULUS_ROUNDS = 6
 
 
 class Init(str, enum.Enum):
@@ -940,14 +944,38 @@ def _entered_chain(ctx: _Context, a: int, sa: int, b: int, sb: int, taken: set[i
 
 def _finish(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray) -> _DiskLoop | None:
     """Exact tight loop from an approximate cyclic disk sequence: drop wrong turns, add missed contacts."""
-    return _finish_steps(ctx, cid, side, ref)
+    return _without_grazed(ctx, _finish_steps(ctx, cid, side, ref))
 
 
-def _finish_steps(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray) -> _DiskLoop | None:
+def _without_grazed(ctx: _Context, L: _DiskLoop | None) -> _DiskLoop | None:
+    """A settled loop without the disks it only grazes (arcs of sweep at most `_ANGLE_EPS`: rounding on a
+    disk it touches at one point), where leaving them out changes nothing else; else L.
+
+    The tangents into and out of such a disk leave it at one point in one direction: they are one line,
+    which is also the tangent between its neighbours, so the loop is the same curve, its straight piece
+    no longer cut where it grazes the disk. Which grazed disks a finish keeps depends on the path it
+    started from; without them the pieces depend only on the curve. The shorter sequence is finished
+    again (its pieces' checks are cached) and taken only if it settles on exactly those disks.
+    """
+    if L is None or not L.converged or L.n < 3:
+        return L
+    grazed = np.abs(L.sweep) <= _ANGLE_EPS
+    if not grazed.any() or grazed.sum() > L.n - 2:
+        return L
+    keep = ~grazed
+    M = _finish_steps(ctx, L.cid[keep], L.side[keep], L.sweep[keep])
+    if M is None or not M.converged or M.n != int(keep.sum()):
+        return L
+    return M
+
+
+def _finish_steps(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndarray,
+                  rounds: int | None = None) -> _DiskLoop | None:
     r = ctx.r
     last = None
     seen = set()
     most = 4 * len(cid) + 64            # a finish that keeps adding disks is not settling (see the loop)
+    entries = None
     for _ in range(_MAX_FINISH_STEPS):
         cid, side, ref = _dedupe(cid, side, ref)
         n = len(cid)
@@ -986,9 +1014,20 @@ def _finish_steps(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndar
             loop.converged = False
             return loop
         seen.add(state)
+        if rounds is not None:
+            if rounds == 0:
+                break
+            rounds -= 1
         viol = _violations(ctx, loop, ctx.violation_cache)
         if not viol:
             return loop
+        if rounds is not None:
+            # With a budget (a start that is only a guess, `_annulus_loop`): give up as soon as the
+            # guess shows itself far off (most pieces entering the core or the anticore) or a round
+            # leaves as many entries as the one before.
+            if len(viol) >= (0.5 * n if entries is None else entries):
+                break
+            entries = len(viol)
         # Insert the candidates, from the back so that earlier indices stay valid. A disk that pokes out
         # of an arc goes before or after the arc's disk, whichever makes the shorter local chain.
         # A disk that several pieces enter goes in once, where it lengthens the chain least: put in at
@@ -1056,6 +1095,78 @@ def _tighten_ring(ctx: _Context, ring: np.ndarray) -> _DiskLoop | None:
     if not known.any():
         raise _EngineError("the tightened loop touches no arc of the core or the fillet")
     return _finish(ctx, cid[known], geo.sides[known].astype(np.int64), turn[known])
+
+
+def _annulus_start(ctx: _Context, ring: np.ndarray):
+    """A cyclic disk sequence to start the exact finish from, without the free space: every core disk
+    whose arc the ring (the guide core's boundary) runs on, at the mean place of its arc along the ring,
+    and every anticore disk within `_ANNULUS_REACH`·r of the ring, at the ring's vertex nearest its
+    centre; None if the ring runs on no core disk."""
+    r = ctx.r
+    xy = ring[:-1] if len(ring) > 1 and np.array_equal(ring[0], ring[-1]) else ring
+    n = len(xy)
+    kd, ids = ctx._kd[1]
+    if kd is None or n < 3:
+        return None
+    turn = _turning(xy)
+    d, j = kd.query(xy)
+    on = np.flatnonzero(np.abs(d - r) <= 1e-3 * r)
+    if len(on) == 0:
+        return None
+    owner = ids[j[on]]
+    order = np.argsort(owner, kind="stable")
+    owner, on = owner[order], on[order]
+    first = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
+    place, cid, side, ref = [], [], [], []
+    for a, b in zip(first.tolist(), np.r_[first[1:], len(owner)].tolist()):
+        k = on[a:b].astype(float)
+        if k.max() - k.min() > 0.5 * n:          # an arc across the ring's first vertex
+            k = np.where(k < 0.5 * n, k + n, k)
+        place.append(float(k.mean()) % n)
+        cid.append(int(owner[a]))
+        side.append(1)
+        ref.append(float(turn[on[a:b]].sum()))
+    kd2, ids2 = ctx._kd[-1]
+    if kd2 is not None:
+        dist, v = cKDTree(xy).query(ctx.cxy[ids2])
+        near = dist <= _ANNULUS_REACH * r
+        place += v[near].astype(float).tolist()
+        cid += ids2[near].tolist()
+        side += [-1] * int(near.sum())
+        ref += [0.0] * int(near.sum())
+    o = np.argsort(place, kind="stable")
+    return np.array(cid, dtype=np.int64)[o], np.array(side, dtype=np.int64)[o], np.array(ref)[o]
+
+
+def _annulus_loop(ctx: _Context, rings: list[np.ndarray]) -> _DiskLoop | None:
+    """The tight loop without the free space, where the mortar is an annulus; None where it is not, or
+    where the finish does not settle on a loop that is certainly the one (the caller then builds it).
+
+    With S one polygon without holes, and the guide core and fillet each one polygon without holes, the
+    closed mortar is an annulus (pinched where the core and the fillet share S's edges), and every closed
+    curve in it that winds once around the core is homotopic to the core's boundary. A converged finish
+    (no piece enters the open core or anticore, every disk turned the right way) whose turns add to +2π,
+    that wraps a core disk and does not touch itself, is such a curve: it lies in the mortar, the core is
+    connected and has a disk on the curve's left, so the whole core lies on its left, and the anticore
+    (connected too) on its right. Being taut, it is the unique shortest one: the loop the free space
+    would give. The start is a guess from the core's boundary (`_annulus_start`); a guess that the first
+    exact checks show far off is given up after a few rounds (`_ANNULUS_ROUNDS`), and the caller then
+    builds the free space.
+    """
+    if len(rings) != 1 or ctx.two or ctx.zero:
+        return None
+    S, R, F = ctx.S, ctx.R, ctx.F
+    if not all(isinstance(P, Polygon) and not P.is_empty and not len(P.interiors) for P in (S, R, F)):
+        return None
+    start = _annulus_start(ctx, rings[0])
+    if start is None:
+        return None
+    L = _without_grazed(ctx, _finish_steps(ctx, *start, rounds=_ANNULUS_ROUNDS))
+    if L is None or not L.converged or not (L.side > 0).any():
+        return None
+    if abs(float(L.sweep.sum()) - _TWO_PI) > 1e-6 or _contacts(ctx, [L]):
+        return None
+    return L
 
 
 # ---------------------------------------------------------------------------------------------------------
@@ -2042,7 +2153,9 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
     if fast is None:
         ctx = _Context(S_local, r_l, tol_l, precision)
         rings = _initial_rings(ctx, S_local, init)
-        disk_loops = _tighten_all(ctx, rings) if rings else []
+        # An annulus of a mortar: its one loop found without the free space, where that is certain.
+        taut = _annulus_loop(ctx, rings) if allow_fast and init is Init.CORE else None
+        disk_loops = [taut] if taut is not None else _tighten_all(ctx, rings) if rings else []
         loops = [frame.loop_to_world(L.to_loop()) for L in disk_loops]
         geometry = _assemble(loops, tol)
     result = Tightening(loops=loops, geometry=geometry, r=r, init=init.value, tolerance=tol, shape=S,

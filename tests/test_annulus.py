@@ -1,0 +1,149 @@
+"""The annulus shortcut (`engine._annulus_loop`): where S is one polygon without holes and the guide core
+and fillet are each one polygon without holes, the one tight loop is found by the exact finish from a
+guess made on the core's boundary, without building and triangulating the free space. It must give the
+free space's loop exactly, decline where the mortar is not an annulus, and give up a bad guess quickly.
+
+And the finish's loops no longer keep disks they only graze (`engine._without_grazed`): a straight piece
+is not cut where it touches a disk at one point, whichever way the loop was found."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from shapely.geometry import Polygon, box
+
+import vectortighten as vt
+from vectortighten import engine
+
+from .engines import assert_exact, assert_same, general
+from .strategies import pixel_outline, radii_for, stars
+from .test_split import STEPPED, comb
+
+
+def jagged(n, seed=3):
+    """A star with noise of 0.05 on a radius of 10 (at r = 0.5, many anticore disks in its crevices)."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    rad = 10 * (1 + 0.04 * np.sin(12 * t)) + rng.normal(0, 0.05, n)
+    return Polygon(np.column_stack([rad * np.cos(t), rad * np.sin(t)]))
+
+
+def harmonic(n, seed=0):
+    """A star whose ripples (amplitude about 2r and 0.15r at r = 1) are comparable to r."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    rad = 20 + 2 * np.sin(9 * t + rng.uniform(0, 6)) + 0.15 * np.sin(61 * t)
+    return Polygon(np.column_stack([rad * np.cos(t), rad * np.sin(t)]))
+
+
+@pytest.fixture
+def taken(monkeypatch):
+    """What `_annulus_loop` returned on each call during a test (None: declined or given up)."""
+    seen = []
+    inner = engine._annulus_loop
+
+    def spy(ctx, rings):
+        out = inner(ctx, rings)
+        seen.append(out)
+        return out
+
+    monkeypatch.setattr(engine, "_annulus_loop", spy)
+    return seen
+
+
+def collinear_joins(T) -> int:
+    """How many joins of two straight pieces that run on in one direction the result's loops have."""
+    count = 0
+    for loop in T.loops:
+        data, arc = loop._data, loop._arc
+        n = len(data)
+        for i in range(n):
+            j = (i + 1) % n
+            if n < 2 or arc[i] or arc[j]:
+                continue
+            u, v = data[i, 2:4] - data[i, 0:2], data[j, 2:4] - data[j, 0:2]
+            cross = u[0] * v[1] - u[1] * v[0]
+            if abs(cross) <= 1e-9 * math.hypot(*u) * math.hypot(*v) and u @ v > 0:
+                count += 1
+    return count
+
+
+SHAPES = {
+    "stepped footprint": (STEPPED, 1.0),
+    "comb": (comb(12), 1.0),
+    "harmonic star": (harmonic(1000), 1.0),
+    "pixel outline": (pixel_outline(600), 0.6),
+}
+
+
+@pytest.mark.parametrize("name", sorted(SHAPES))
+def test_the_annulus_loop_is_the_free_space_loop(name, taken):
+    S, r = SHAPES[name]
+    T = vt.tighten(S, r)
+    assert T._cache["_path"] == "general"
+    assert taken and taken[-1] is not None          # the shortcut gave the loop
+    G = general(S, r)
+    assert_same(T, G)
+    mine, theirs = T._cache["_exact"][1], G._cache["_exact"][1]
+    assert [sorted(L.cid.tolist()) for L in mine] == [sorted(L.cid.tolist()) for L in theirs]
+    assert_exact(S, r, T)
+    assert T.verify() == []
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_random_stars_tighten_the_same_with_and_without_the_shortcut(data):
+    S = data.draw(stars())
+    r = data.draw(radii_for(S))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        T = vt.tighten(S, r)
+        G = general(S, r)
+    assert T.converged == G.converged
+    assert_same(T, G)
+
+
+def test_no_shortcut_where_the_mortar_is_not_an_annulus():
+    ring = box(0, 0, 20, 20).difference(box(6, 6, 14, 14))           # S with a hole: R and F have one
+    dumbbell = shapely.union_all([box(0, 0, 6, 6), box(10, 0, 16, 6), box(6, 2.5, 10, 3.5)])   # two cores
+    two = shapely.MultiPolygon([box(0, 0, 6, 6), box(7, 0, 13, 6)])                             # two parts
+    for S in (ring, dumbbell, two):
+        G = general(S, 1.0)
+        ctx = G._cache["_exact"][0]
+        assert engine._annulus_loop(ctx, engine._rings(ctx.R)) is None
+        assert_same(vt.tighten(S, 1.0), G)
+
+
+def test_a_far_off_guess_is_given_up_within_its_rounds(monkeypatch, taken):
+    checks = []
+    inner = engine._violations
+    monkeypatch.setattr(engine, "_violations", lambda ctx, L, cache=None: checks.append(L.n) or inner(ctx, L, cache))
+    budgeted = []
+    finish = engine._finish_steps
+
+    def spy(ctx, cid, side, ref, rounds=None):
+        before = len(checks)
+        out = finish(ctx, cid, side, ref, rounds=rounds)
+        if rounds is not None:
+            budgeted.append(len(checks) - before)
+        return out
+
+    monkeypatch.setattr(engine, "_finish_steps", spy)
+    S, r = jagged(1000), 0.5
+    T = vt.tighten(S, r)
+    assert taken == [None]                           # the guess on this jagged outline is far off
+    assert budgeted and max(budgeted) <= engine._ANNULUS_ROUNDS
+    assert_same(T, general(S, r))
+
+
+@pytest.mark.parametrize("name", ["pixel outline", "stepped footprint"])
+def test_no_straight_piece_is_cut_where_the_loop_grazes_a_disk(name):
+    S, r = SHAPES[name]
+    for T in (vt.tighten(S, r), general(S, r)):
+        assert collinear_joins(T) == 0
+        for L in T._cache["_exact"][1]:
+            assert (np.abs(L.sweep) > engine._ANGLE_EPS).all()      # no disk touched at one point only
