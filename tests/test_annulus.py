@@ -121,7 +121,12 @@ def test_no_shortcut_where_the_mortar_is_not_an_annulus():
 def test_a_far_off_guess_is_given_up_within_its_rounds(monkeypatch, taken):
     checks = []
     inner = engine._violations
-    monkeypatch.setattr(engine, "_violations", lambda ctx, L, cache=None: checks.append(L.n) or inner(ctx, L, cache))
+
+    def counted(ctx, L, cache=None):
+        checks.append(L.n)
+        return inner(ctx, L, cache)
+
+    monkeypatch.setattr(engine, "_violations", counted)
     budgeted = []
     finish = engine._finish_steps
 
