@@ -1,5 +1,5 @@
-"""The annulus shortcut (`engine._annulus_loop`): where S is one polygon without holes and the guide core
-and fillet are each one polygon without holes, the one tight loop is found by the exact finish from a
+"""The annulus shortcut (`engine._annulus_loops`): where a part of the guide fillet without holes holds one
+part of the guide core without holes, the tight loop between them is found by the exact finish from a
 guess made on the core's boundary, without building and triangulating the free space. It must give the
 free space's loop exactly, decline where the mortar is not an annulus, and give up a bad guess quickly.
 
@@ -12,6 +12,7 @@ import warnings
 import numpy as np
 import pytest
 import shapely
+import shapely.affinity
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from shapely.geometry import Polygon, box
@@ -46,8 +47,8 @@ def taken(monkeypatch):
     seen = []
     inner = engine._annulus_loop
 
-    def spy(ctx, rings):
-        out = inner(ctx, rings)
+    def spy(ctx, ring):
+        out = inner(ctx, ring)
         seen.append(out)
         return out
 
@@ -107,6 +108,18 @@ def test_random_stars_tighten_the_same_with_and_without_the_shortcut(data):
     assert_same(T, G)
 
 
+def test_each_part_of_the_fillet_that_is_an_annulus_takes_the_shortcut(taken):
+    # Two stepped footprints 2.5r apart: one group of the split (nearer than 3r), two parts of the fillet
+    # (the gap is wider than 2r), each holding one part of the core.
+    S = shapely.MultiPolygon([STEPPED, shapely.affinity.translate(STEPPED, 18.5, 0.0)])
+    assert shapely.distance(*S.geoms) == pytest.approx(2.5, abs=0.3)
+    T = vt.tighten(S, 1.0)
+    assert len(taken) == 2 and all(L is not None for L in taken)
+    G = general(S, 1.0)
+    assert_same(T, G)
+    assert_exact(S, 1.0, T)
+
+
 def test_no_shortcut_where_the_mortar_is_not_an_annulus():
     ring = box(0, 0, 20, 20).difference(box(6, 6, 14, 14))           # S with a hole: R and F have one
     dumbbell = shapely.union_all([box(0, 0, 6, 6), box(10, 0, 16, 6), box(6, 2.5, 10, 3.5)])   # two cores
@@ -114,7 +127,9 @@ def test_no_shortcut_where_the_mortar_is_not_an_annulus():
     for S in (ring, dumbbell, two):
         G = general(S, 1.0)
         ctx = G._cache["_exact"][0]
-        assert engine._annulus_loop(ctx, engine._rings(ctx.R)) is None
+        rings = engine._rings(ctx.R)
+        taken, rest = engine._annulus_loops(ctx, rings)
+        assert taken == [] and len(rest) == len(rings)
         assert_same(vt.tighten(S, 1.0), G)
 
 

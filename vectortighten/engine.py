@@ -57,7 +57,7 @@ _ANGLE_EPS = 1e-9
 _MAX_FINISH_STEPS = 200
 _MAX_SURGERY_ROUNDS = 64
 _OBSTACLE_BOX_PAIRS = 1 << 18    # `_Context.oindex`: up to this many pairs, candidates by boxes
-# `_annulus_loop`: the anticore disks within this many r of the core's boundary start the finish, which
+# `_annulus_loops`: the anticore disks within this many r of the core's boundary start the finish, which
 # gets this many rounds of exact checks (the loops it settles on took at most four on every family).
 _ANNULUS_REACH = 3.0
 _ANNULUS_ROUNDS = 6
@@ -1022,7 +1022,7 @@ def _finish_steps(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndar
         if not viol:
             return loop
         if rounds is not None:
-            # With a budget (a start that is only a guess, `_annulus_loop`): give up as soon as the
+            # With a budget (a start that is only a guess, `_annulus_loops`): give up as soon as the
             # guess shows itself far off (most pieces entering the core or the anticore) or a round
             # leaves as many entries as the one before.
             if len(viol) >= (0.5 * n if entries is None else entries):
@@ -1138,27 +1138,57 @@ def _annulus_start(ctx: _Context, ring: np.ndarray):
     return np.array(cid, dtype=np.int64)[o], np.array(side, dtype=np.int64)[o], np.array(ref)[o]
 
 
-def _annulus_loop(ctx: _Context, rings: list[np.ndarray]) -> _DiskLoop | None:
-    """The tight loop without the free space, where the mortar is an annulus; None where it is not, or
-    where the finish does not settle on a loop that is certainly the one (the caller then builds it).
+def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
+    """``(loops, rest)``: the tight loops found without the free space, in the parts of the mortar that
+    are annuli, and the initial rings left for the free space (all of them where none is taken).
 
-    With S one polygon without holes, and the guide core and fillet each one polygon without holes, the
-    closed mortar is an annulus (pinched where the core and the fillet share S's edges), and every closed
-    curve in it that winds once around the core is homotopic to the core's boundary. A converged finish
-    (no piece enters the open core or anticore, every disk turned the right way) whose turns add to +2π,
-    that wraps a core disk and does not touch itself, is such a curve: it lies in the mortar, the core is
-    connected and has a disk on the curve's left, so the whole core lies on its left, and the anticore
-    (connected too) on its right. Being taut, it is the unique shortest one: the loop the free space
-    would give. The start is a guess from the core's boundary (`_annulus_start`); a guess that the first
-    exact checks show far off is given up after a few rounds (`_ANNULUS_ROUNDS`), and the caller then
-    builds the free space.
+    A part of the guide fillet without holes that holds one part of the guide core, itself without holes,
+    leaves between them a closed mortar that is an annulus (pinched where the core and the fillet share S's
+    edges), and every closed curve in it that winds once round that core is homotopic to the core's
+    boundary. A converged finish (no piece enters the open core or anticore, every disk turned the right
+    way) whose turns add to +2π, that wraps a core disk and does not touch itself, is such a curve: it
+    cannot leave its part of the fillet without entering the anticore; the core part is connected and has
+    a disk on the curve's left, so it lies wholly on its left, and the anticore on its right. Being taut,
+    it is the unique shortest one: the loop the free space would give. Loops in different parts of the
+    fillet do not touch (checked all the same: where two do, every ring goes to the free space).
+
+    The start is a guess from the core's boundary (`_annulus_start`); a guess that the first exact checks
+    show far off is given up after a few rounds (`_ANNULUS_ROUNDS`), and its ring goes to the free space.
     """
-    if len(rings) != 1 or ctx.two or ctx.zero:
-        return None
-    S, R, F = ctx.S, ctx.R, ctx.F
-    if not all(isinstance(P, Polygon) and not P.is_empty and not len(P.interiors) for P in (S, R, F)):
-        return None
-    start = _annulus_start(ctx, rings[0])
+    if ctx.two or ctx.zero or not rings:
+        return [], rings
+    R_parts = [P for P in shapely.get_parts(ctx.R) if not P.is_empty]
+    F_parts = [P for P in shapely.get_parts(ctx.F) if not P.is_empty]
+    if sum(1 + len(P.interiors) for P in R_parts) != len(rings) or not F_parts:
+        return [], rings
+    # The part of the fillet each part of the core lies in (the core lies in the fillet).
+    probe = shapely.points([np.asarray(P.representative_point().coords[0]) for P in R_parts])
+    inner, outer = shapely.STRtree(F_parts).query(probe, predicate="intersects")
+    owner = np.full(len(R_parts), -1)
+    owner[inner] = outer
+    held = np.bincount(owner[owner >= 0], minlength=len(F_parts))
+    taken, rest, at = [], [], 0
+    for k, P in enumerate(R_parts):
+        mine = rings[at:at + 1 + len(P.interiors)]
+        at += len(mine)
+        f = int(owner[k])
+        if len(P.interiors) or f < 0 or held[f] != 1 or len(F_parts[f].interiors):
+            rest += mine
+            continue
+        L = _annulus_loop(ctx, mine[0])
+        if L is None:
+            rest += mine
+        else:
+            taken.append(L)
+    if len(taken) > 1 and _contacts(ctx, taken):
+        return [], rings
+    return taken, rest
+
+
+def _annulus_loop(ctx: _Context, ring: np.ndarray) -> _DiskLoop | None:
+    """The tight loop from a guess on one ring of the core's boundary (`_annulus_loops`), or None where
+    the finish does not settle on a loop that is certainly the one."""
+    start = _annulus_start(ctx, ring)
     if start is None:
         return None
     L = _without_grazed(ctx, _finish_steps(ctx, *start, rounds=_ANNULUS_ROUNDS))
@@ -2124,7 +2154,8 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
             if rest is not None:
                 sub = _Context(rest, r_l, tol_l, precision)
                 rings = _initial_rings(sub, rest, init)
-                more = _tighten_all(sub, rings) if rings else []
+                taut, rings = _annulus_loops(sub, rings) if init is Init.CORE else ([], rings)
+                more = taut + (_tighten_all(sub, rings) if rings else [])
                 more_loops = [frame.loop_to_world(L.to_loop()) for L in more]
                 groups.append((rest, sub, more, more_loops, _assemble(more_loops, tol)))
             # Each group's result is checked and verified as its path's would be (`_guard.containment_problems`,
@@ -2153,9 +2184,9 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
     if fast is None:
         ctx = _Context(S_local, r_l, tol_l, precision)
         rings = _initial_rings(ctx, S_local, init)
-        # An annulus of a mortar: its one loop found without the free space, where that is certain.
-        taut = _annulus_loop(ctx, rings) if allow_fast and init is Init.CORE else None
-        disk_loops = [taut] if taut is not None else _tighten_all(ctx, rings) if rings else []
+        # The parts of the mortar that are annuli: their loops found without the free space.
+        taut, rings = _annulus_loops(ctx, rings) if allow_fast and init is Init.CORE else ([], rings)
+        disk_loops = taut + (_tighten_all(ctx, rings) if rings else [])
         loops = [frame.loop_to_world(L.to_loop()) for L in disk_loops]
         geometry = _assemble(loops, tol)
     result = Tightening(loops=loops, geometry=geometry, r=r, init=init.value, tolerance=tol, shape=S,
