@@ -542,21 +542,21 @@ def _two_radii_loop(L: _DiskLoop, frame: _Frame | None) -> Loop:
 
 def _dedupe(cid, side, ref):
     """Merge cyclically consecutive entries with the same disk and side (their turns add)."""
-    if len(cid) <= 1:
+    n = len(cid)
+    if n <= 1:
         return cid, side, ref
-    keep_c, keep_s, keep_r = [], [], []
-    for c, s, r_ in zip(cid.tolist(), side.tolist(), ref.tolist()):
-        if keep_c and keep_c[-1] == c and keep_s[-1] == s:
-            keep_r[-1] += r_
-        else:
-            keep_c.append(c)
-            keep_s.append(s)
-            keep_r.append(r_)
-    while len(keep_c) > 1 and keep_c[0] == keep_c[-1] and keep_s[0] == keep_s[-1]:
-        keep_r[0] += keep_r.pop()
-        keep_c.pop()
-        keep_s.pop()
-    return np.array(keep_c, dtype=np.int64), np.array(keep_s, dtype=np.int64), np.array(keep_r, dtype=float)
+    # Runs in the order of the array (a run at the end that continues the first one is merged into it).
+    new = np.ones(n, dtype=bool)
+    new[1:] = (cid[1:] != cid[:-1]) | (side[1:] != side[:-1])
+    first = np.flatnonzero(new)
+    if len(first) == n and (cid[0] != cid[-1] or side[0] != side[-1]):
+        return np.asarray(cid, dtype=np.int64), np.asarray(side, dtype=np.int64), np.asarray(ref, dtype=float)
+    sums = np.add.reduceat(np.asarray(ref, dtype=float), first)
+    cid, side = np.asarray(cid, dtype=np.int64)[first], np.asarray(side, dtype=np.int64)[first]
+    if len(first) > 1 and cid[0] == cid[-1] and side[0] == side[-1]:
+        sums[0] += sums[-1]
+        cid, side, sums = cid[:-1], side[:-1], sums[:-1]
+    return cid, side, sums
 
 
 def _drop_indices(values: np.ndarray) -> np.ndarray:
