@@ -1139,18 +1139,20 @@ def _annulus_start(ctx: _Context, ring: np.ndarray):
 
 
 def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
-    """``(loops, rest)``: the tight loops found without the free space, in the parts of the mortar that
-    are annuli, and the initial rings left for the free space (all of them where none is taken).
+    """``(loops, rest)``: the tight loops found without the free space, each round one part of the core,
+    and the initial rings left for the free space (all of them where none is taken).
 
-    A part of the guide fillet without holes that holds one part of the guide core, itself without holes,
-    leaves between them a closed mortar that is an annulus (pinched where the core and the fillet share S's
-    edges), and every closed curve in it that winds once round that core is homotopic to the core's
-    boundary. A converged finish (no piece enters the open core or anticore, every disk turned the right
-    way) whose turns add to +2π, that wraps a core disk and does not touch itself, is such a curve: it
-    cannot leave its part of the fillet without entering the anticore; the core part is connected and has
-    a disk on the curve's left, so it lies wholly on its left, and the anticore on its right. Being taut,
-    it is the unique shortest one: the loop the free space would give. Loops in different parts of the
-    fillet do not touch (checked all the same: where two do, every ring goes to the free space).
+    Take a part of the guide fillet without holes and, in it, parts of the guide core without holes. The
+    closed mortar between them is a disk with those holes (pinched where the core and the fillet share S's
+    edges); a simple closed curve in it is homotopic to the boundary of the core part it encloses if it
+    encloses that part and no other (two simple closed curves in a planar domain that part its holes alike
+    are isotopic). A converged finish (no piece enters the open core or anticore, every disk turned the
+    right way) whose turns add to +2π and that does not touch itself is a simple closed curve in the
+    mortar, counter-clockwise; it cannot leave its part of the fillet without entering the anticore. If it
+    wraps a disk of its core part, that part, connected, lies wholly inside it; a core disk of every other
+    part in the same part of the fillet is checked to lie outside. Being taut, the curve is then the
+    unique shortest one in its class: the loop the free space would give. Where two such loops touch,
+    surgery would join them: every ring then goes to the free space.
 
     The start is a guess from the core's boundary (`_annulus_start`); a guess that the first exact checks
     show far off is given up after a few rounds (`_ANNULUS_ROUNDS`), and its ring goes to the free space.
@@ -1161,25 +1163,47 @@ def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
     F_parts = [P for P in shapely.get_parts(ctx.F) if not P.is_empty]
     if sum(1 + len(P.interiors) for P in R_parts) != len(rings) or not F_parts:
         return [], rings
-    # The part of the fillet each part of the core lies in (the core lies in the fillet).
+    # The part of the fillet each part of the core lies in (the core lies in the fillet), and the part of
+    # the core each core disk's centre lies in (r deep).
     probe = shapely.points([np.asarray(P.representative_point().coords[0]) for P in R_parts])
     inner, outer = shapely.STRtree(F_parts).query(probe, predicate="intersects")
     owner = np.full(len(R_parts), -1)
     owner[inner] = outer
-    held = np.bincount(owner[owner >= 0], minlength=len(F_parts))
-    taken, rest, at = [], [], 0
-    for k, P in enumerate(R_parts):
-        mine = rings[at:at + 1 + len(P.interiors)]
-        at += len(mine)
-        f = int(owner[k])
-        if len(P.interiors) or f < 0 or held[f] != 1 or len(F_parts[f].interiors):
-            rest += mine
+    part_of = np.full(len(ctx.cxy), -1)
+    core = np.flatnonzero(ctx.cside == 1)
+    ci, pk = shapely.STRtree(R_parts).query(shapely.points(ctx.cxy[core]), predicate="intersects")
+    part_of[core[ci]] = pk
+    witness = np.full(len(R_parts), -1)
+    witness[part_of[part_of >= 0]] = np.flatnonzero(part_of >= 0)        # one core centre of each part
+    first = np.cumsum([0] + [1 + len(P.interiors) for P in R_parts])     # each part's first ring
+    # Each part of the fillet all or nothing: a loop of the free space may touch one found here.
+    found: list[_DiskLoop | None] = [None] * len(R_parts)
+    for f, F_part in enumerate(F_parts):
+        held = np.flatnonzero(owner == f).tolist()
+        if not held or len(F_part.interiors) or any(len(R_parts[k].interiors) for k in held):
             continue
-        L = _annulus_loop(ctx, mine[0])
-        if L is None:
-            rest += mine
+        loops = []
+        for k in held:
+            L = _annulus_loop(ctx, rings[first[k]])
+            if L is not None and not (part_of[L.cid[L.side > 0]] == k).any():
+                L = None                                        # it does not wrap its own core part
+            others = witness[[j for j in held if j != k]]
+            if L is not None and len(others):
+                inside = Polygon(L.to_loop().sample(1e-3 * ctx.r))
+                if (others < 0).any() or shapely.contains_xy(inside, *ctx.cxy[others].T).any():
+                    L = None                                    # it encloses another core part too
+            if L is None:
+                break
+            loops.append(L)
         else:
-            taken.append(L)
+            for k, L in zip(held, loops, strict=True):
+                found[k] = L
+    taken, rest = [], []
+    for k, P in enumerate(R_parts):
+        if found[k] is not None:
+            taken.append(found[k])
+        else:
+            rest += rings[first[k]:first[k] + 1 + len(P.interiors)]
     if len(taken) > 1 and _contacts(ctx, taken):
         return [], rings
     return taken, rest
@@ -1192,7 +1216,7 @@ def _annulus_loop(ctx: _Context, ring: np.ndarray) -> _DiskLoop | None:
     if start is None:
         return None
     L = _without_grazed(ctx, _finish_steps(ctx, *start, rounds=_ANNULUS_ROUNDS))
-    if L is None or not L.converged or not (L.side > 0).any():
+    if L is None or not L.converged:
         return None
     if abs(float(L.sweep.sum()) - _TWO_PI) > 1e-6 or _contacts(ctx, [L]):
         return None
