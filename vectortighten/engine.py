@@ -1163,19 +1163,29 @@ def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
     F_parts = [P for P in shapely.get_parts(ctx.F) if not P.is_empty]
     if sum(1 + len(P.interiors) for P in R_parts) != len(rings) or not F_parts:
         return [], rings
-    # The part of the fillet each part of the core lies in (the core lies in the fillet), and the part of
-    # the core each core disk's centre lies in (r deep).
+    # The part of the fillet each part of the core lies in (the core lies in the fillet).
     probe = shapely.points([np.asarray(P.representative_point().coords[0]) for P in R_parts])
     inner, outer = shapely.STRtree(F_parts).query(probe, predicate="intersects")
     owner = np.full(len(R_parts), -1)
     owner[inner] = outer
-    part_of = np.full(len(ctx.cxy), -1)
-    core = np.flatnonzero(ctx.cside == 1)
-    ci, pk = shapely.STRtree(R_parts).query(shapely.points(ctx.cxy[core]), predicate="intersects")
-    part_of[core[ci]] = pk
-    witness = np.full(len(R_parts), -1)
-    witness[part_of[part_of >= 0]] = np.flatnonzero(part_of >= 0)        # one core centre of each part
     first = np.cumsum([0] + [1 + len(P.interiors) for P in R_parts])     # each part's first ring
+    # Where a part of the fillet holds several parts of the core: the part each core centre lies in (a
+    # point-in-polygon test on the prepared part, after its box) and one centre of each part.
+    shared = np.flatnonzero(np.bincount(owner[owner >= 0], minlength=len(F_parts)) > 1)
+    part_of = np.full(len(ctx.cxy), -1)
+    witness = np.full(len(R_parts), -1)
+    if len(shared):
+        core = np.flatnonzero(ctx.cside == 1)
+        many = np.flatnonzero(np.isin(owner, shared))
+        ci, pk = shapely.STRtree([R_parts[k] for k in many]).query(shapely.points(ctx.cxy[core]))
+        for j in np.unique(pk).tolist():
+            P = R_parts[many[j]]
+            shapely.prepare(P)
+            c = core[ci[pk == j]]
+            c = c[shapely.contains_xy(P, ctx.cxy[c, 0], ctx.cxy[c, 1])]
+            part_of[c] = many[j]
+            if len(c):
+                witness[many[j]] = c[0]
     # Each part of the fillet all or nothing: a loop of the free space may touch one found here.
     found: list[_DiskLoop | None] = [None] * len(R_parts)
     for f, F_part in enumerate(F_parts):
@@ -1185,9 +1195,9 @@ def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
         loops = []
         for k in held:
             L = _annulus_loop(ctx, rings[first[k]])
-            if L is not None and not (part_of[L.cid[L.side > 0]] == k).any():
-                L = None                                        # it does not wrap its own core part
             others = witness[[j for j in held if j != k]]
+            if L is not None and len(others) and not (part_of[L.cid[L.side > 0]] == k).any():
+                L = None                                        # it does not wrap its own core part
             if L is not None and len(others):
                 inside = Polygon(L.to_loop().sample(1e-3 * ctx.r))
                 if (others < 0).any() or shapely.contains_xy(inside, *ctx.cxy[others].T).any():
@@ -1216,7 +1226,7 @@ def _annulus_loop(ctx: _Context, ring: np.ndarray) -> _DiskLoop | None:
     if start is None:
         return None
     L = _without_grazed(ctx, _finish_steps(ctx, *start, rounds=_ANNULUS_ROUNDS))
-    if L is None or not L.converged:
+    if L is None or not L.converged or not (L.side > 0).any():
         return None
     if abs(float(L.sweep.sum()) - _TWO_PI) > 1e-6 or _contacts(ctx, [L]):
         return None
