@@ -43,3 +43,17 @@ def disks(T):
     frame = T._cache["_frame"]
     return (np.concatenate([frame.scale * L.c + (frame.ox, frame.oy) for L in disk_loops]),
             np.concatenate([L.side for L in disk_loops]))
+
+
+def counted_checks(monkeypatch) -> list:
+    """A list that gets one entry, the loop's number of disks, at every exact check of the finish
+    (`engine._violations`) for the rest of the test."""
+    checks = []
+    real = engine._violations
+
+    def counted(ctx, L, cache=None):
+        checks.append(L.n)
+        return real(ctx, L, cache)
+
+    monkeypatch.setattr(engine, "_violations", counted)
+    return checks

@@ -23,7 +23,7 @@ from shapely.geometry import Polygon, box
 import vectortighten as vt
 from vectortighten import engine
 
-from .engines import assert_exact, assert_same, general
+from .engines import assert_exact, assert_same, counted_checks, general
 from .strategies import pixel_outline, radii_for, stars
 from .test_split import STEPPED, comb
 
@@ -155,14 +155,7 @@ def test_one_part_of_the_fillet_with_two_core_parts_takes_each_loop_or_none(S):
 
 
 def test_a_far_off_guess_is_given_up_within_its_rounds(monkeypatch, taken):
-    checks = []
-    inner = engine._violations
-
-    def counted(ctx, L, cache=None):
-        checks.append(L.n)
-        return inner(ctx, L, cache)
-
-    monkeypatch.setattr(engine, "_violations", counted)
+    checks = counted_checks(monkeypatch)
     budgeted = []
     finish = engine._finish_steps
 
