@@ -196,3 +196,40 @@ def test_a_loop_found_here_is_not_kept_beside_a_free_space_loop_in_the_same_part
     T = vt.tighten(S, r)
     assert T.verify() == []
     assert_same(T, general(S, r))
+
+
+def test_a_part_of_the_fillet_with_a_hole_keeps_its_loops_out_of_the_hole():
+    # Eight disks of radius 2 round a lake, 0.5 apart at r = 1: the fillet bridges the gaps into a ring
+    # with a hole (anticore disks fit in the lake), holding the eight cores. Each loop encloses its own
+    # core and neither another core nor the lake: taken, and the same disks as the free space's loops.
+    centre = 4.5 / (2 * math.sin(math.pi / 8))
+    S = shapely.MultiPolygon([shapely.Point(centre * math.cos(a), centre * math.sin(a)).buffer(2.0, 32)
+                              for a in np.linspace(0, 2 * math.pi, 8, endpoint=False)])
+    G = general(S, 1.0)
+    ctx = G._cache["_exact"][0]
+    (F_part,) = shapely.get_parts(ctx.F)
+    assert len(F_part.interiors) == 1 and len(shapely.get_parts(ctx.R)) == 8
+    (lake,) = engine._hole_witnesses(ctx, F_part)          # an anticore centre in the lake, r from S
+    assert Polygon(F_part.interiors[0]).contains(shapely.Point(ctx.cxy[lake]))
+    assert shapely.distance(ctx.S, shapely.Point(ctx.cxy[lake])) >= ctx.r * (1 - 1e-9)
+    taken, rest = engine._annulus_loops(ctx, engine._rings(ctx.R))
+    assert len(taken) == 8 and rest == []
+    theirs = sorted(sorted(L.cid.tolist()) for L in G._cache["_exact"][1])
+    assert sorted(sorted(L.cid.tolist()) for L in taken) == theirs
+
+
+def test_a_loop_round_a_lake_of_the_fillet_is_not_taken():
+    # A C of core round a lake of the anticore whose mouth the fillet closes: a guess that encloses the
+    # lake is refused by the lake's witness (the loop must leave every hole of the fillet part outside).
+    S = box(0, 0, 20, 20).difference(box(5, 5, 15, 15)).difference(box(9.5, 0, 10.5, 5))
+    G = general(S, 2.0)
+    ctx = G._cache["_exact"][0]
+    F_parts = list(shapely.get_parts(ctx.F))
+    lakes = [engine._hole_witnesses(ctx, F) for F in F_parts]
+    assert any(w is not None and len(w) for w in lakes)
+    taken, rest = engine._annulus_loops(ctx, engine._rings(ctx.R))
+    for L in taken:
+        inside = Polygon(L.to_loop().sample(1e-3 * ctx.r))
+        for w in lakes:
+            assert w is None or not shapely.contains_xy(inside, *ctx.cxy[w].T).any()
+    assert_same(vt.tighten(S, 2.0), G)

@@ -1142,17 +1142,18 @@ def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
     """``(loops, rest)``: the tight loops found without the free space, each round one part of the core,
     and the initial rings left for the free space (all of them where none is taken).
 
-    Take a part of the guide fillet without holes and, in it, parts of the guide core without holes. The
-    closed mortar between them is a disk with those holes (pinched where the core and the fillet share S's
-    edges); a simple closed curve in it is homotopic to the boundary of the core part it encloses if it
-    encloses that part and no other (two simple closed curves in a planar domain that part its holes alike
-    are isotopic). A converged finish (no piece enters the open core or anticore, every disk turned the
-    right way) whose turns add to +2π and that does not touch itself is a simple closed curve in the
-    mortar, counter-clockwise; it cannot leave its part of the fillet without entering the anticore. If it
-    wraps a disk of its core part, that part, connected, lies wholly inside it; a core disk of every other
-    part in the same part of the fillet is checked to lie outside. Being taut, the curve is then the
-    unique shortest one in its class: the loop the free space would give. Where two such loops touch,
-    surgery would join them: every ring then goes to the free space.
+    Take a part of the guide fillet and, in it, parts of the guide core without holes. The closed mortar
+    between them is a planar domain whose holes are those core parts and the fillet part's own holes (the
+    anticore in it), pinched where the core and the fillet share S's edges; a simple closed curve in it is
+    homotopic to the boundary of the core part it encloses if it encloses that part and no other hole (two
+    simple closed curves in a planar domain that part its holes alike are isotopic). A converged finish
+    (no piece enters the open core or anticore, every disk turned the right way) whose turns add to +2π
+    and that does not touch itself is a simple closed curve in the mortar, counter-clockwise; it cannot
+    leave its part of the fillet without entering the anticore. If it wraps a disk of its core part, that
+    part, connected, lies wholly inside it; a core centre of every other core part and an anticore centre
+    in every hole of the same part of the fillet are checked to lie outside (each r deep in its hole).
+    Being taut, the curve is then the unique shortest one in its class: the loop the free space would
+    give. Where two such loops touch, surgery would join them: every ring then goes to the free space.
 
     The start is a guess from the core's boundary (`_annulus_start`); a guess that the first exact checks
     show far off is given up after a few rounds (`_ANNULUS_ROUNDS`), and its ring goes to the free space.
@@ -1190,18 +1191,21 @@ def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
     found: list[_DiskLoop | None] = [None] * len(R_parts)
     for f, F_part in enumerate(F_parts):
         held = np.flatnonzero(owner == f).tolist()
-        if not held or len(F_part.interiors) or any(len(R_parts[k].interiors) for k in held):
+        if not held or any(len(R_parts[k].interiors) for k in held):
+            continue
+        lakes = _hole_witnesses(ctx, F_part)                   # an anticore centre in each hole
+        if lakes is None:
             continue
         loops = []
         for k in held:
             L = _annulus_loop(ctx, rings[first[k]])
-            others = witness[[j for j in held if j != k]]
-            if L is not None and len(others) and not (part_of[L.cid[L.side > 0]] == k).any():
+            others = np.concatenate([witness[[j for j in held if j != k]], lakes]).astype(np.int64)
+            if L is not None and len(held) > 1 and not (part_of[L.cid[L.side > 0]] == k).any():
                 L = None                                        # it does not wrap its own core part
             if L is not None and len(others):
                 inside = Polygon(L.to_loop().sample(1e-3 * ctx.r))
                 if (others < 0).any() or shapely.contains_xy(inside, *ctx.cxy[others].T).any():
-                    L = None                                    # it encloses another core part too
+                    L = None                                    # it encloses another hole too
             if L is None:
                 break
             loops.append(L)
@@ -1217,6 +1221,26 @@ def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
     if len(taken) > 1 and _contacts(ctx, taken):
         return [], rings
     return taken, rest
+
+
+def _hole_witnesses(ctx: _Context, F_part: Polygon) -> np.ndarray | None:
+    """One anticore centre in each hole of a part of the guide fillet (r deep in the anticore there, so r
+    or more from any loop in the mortar), or None if some hole holds none."""
+    if not len(F_part.interiors):
+        return np.zeros(0, dtype=np.int64)
+    anti = np.flatnonzero(ctx.cside == -1)
+    out = []
+    for ring in F_part.interiors:
+        hole = Polygon(ring)
+        x0, y0, x1, y1 = hole.bounds
+        xy = ctx.cxy[anti]
+        c = anti[(xy[:, 0] >= x0) & (xy[:, 0] <= x1) & (xy[:, 1] >= y0) & (xy[:, 1] <= y1)]
+        shapely.prepare(hole)
+        c = c[shapely.contains_xy(hole, ctx.cxy[c, 0], ctx.cxy[c, 1])]
+        if not len(c):
+            return None
+        out.append(int(c[0]))
+    return np.array(out, dtype=np.int64)
 
 
 def _annulus_loop(ctx: _Context, ring: np.ndarray) -> _DiskLoop | None:
