@@ -1146,14 +1146,15 @@ def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
     between them is a planar domain whose holes are those core parts and the fillet part's own holes (the
     anticore in it), pinched where the core and the fillet share S's edges; a simple closed curve in it is
     homotopic to the boundary of the core part it encloses if it encloses that part and no other hole (two
-    simple closed curves in a planar domain that part its holes alike are isotopic). A converged finish
-    (no piece enters the open core or anticore, every disk turned the right way) whose turns add to +2π
-    and that does not touch itself is a simple closed curve in the mortar, counter-clockwise; it cannot
-    leave its part of the fillet without entering the anticore. If it wraps a disk of its core part, that
-    part, connected, lies wholly inside it; a core centre of every other core part and an anticore centre
-    in every hole of the same part of the fillet are checked to lie outside (each r deep in its hole).
-    Being taut, the curve is then the unique shortest one in its class: the loop the free space would
-    give. Where two such loops touch, surgery would join them: every ring then goes to the free space.
+    simple closed curves in a planar domain that part its holes alike are isotopic). A converged finish (no
+    piece enters the open core or anticore, every disk turned the right way) whose turns add to +2π and that
+    does not touch itself (checked with the others, below) is a simple closed curve in the mortar,
+    counter-clockwise; it cannot leave its part of the fillet without entering the anticore. If it wraps a
+    disk of its core part, that part, connected, lies wholly inside it; a core centre of every other core part
+    and an anticore centre in every hole of the same part of the fillet are checked to lie outside (each r
+    deep in its hole). Being taut, the curve is then the unique shortest one in its class: the loop the free
+    space would give. Where such a loop touches itself or another, surgery would operate: every ring then goes
+    to the free space.
 
     The start is a guess from the core's boundary (`_annulus_start`); a guess that the first exact checks
     show far off is given up after a few rounds (`_ANNULUS_ROUNDS`), and its ring goes to the free space.
@@ -1218,7 +1219,7 @@ def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
             taken.append(found[k])
         else:
             rest += rings[first[k]:first[k] + 1 + len(P.interiors)]
-    if len(taken) > 1 and _contacts(ctx, taken):
+    if taken and _contacts(ctx, taken):         # a loop touching itself or another: surgery's case
         return [], rings
     return taken, rest
 
@@ -1229,11 +1230,11 @@ def _hole_witnesses(ctx: _Context, F_part: Polygon) -> np.ndarray | None:
     if not len(F_part.interiors):
         return np.zeros(0, dtype=np.int64)
     anti = np.flatnonzero(ctx.cside == -1)
+    xy = ctx.cxy[anti]
     out = []
     for ring in F_part.interiors:
         hole = Polygon(ring)
         x0, y0, x1, y1 = hole.bounds
-        xy = ctx.cxy[anti]
         c = anti[(xy[:, 0] >= x0) & (xy[:, 0] <= x1) & (xy[:, 1] >= y0) & (xy[:, 1] <= y1)]
         shapely.prepare(hole)
         c = c[shapely.contains_xy(hole, ctx.cxy[c, 0], ctx.cxy[c, 1])]
@@ -1252,9 +1253,7 @@ def _annulus_loop(ctx: _Context, ring: np.ndarray) -> _DiskLoop | None:
     L = _without_grazed(ctx, _finish_steps(ctx, *start, rounds=_ANNULUS_ROUNDS))
     if L is None or not L.converged or not (L.side > 0).any():
         return None
-    if abs(float(L.sweep.sum()) - _TWO_PI) > 1e-6 or _contacts(ctx, [L]):
-        return None
-    return L
+    return None if abs(float(L.sweep.sum()) - _TWO_PI) > 1e-6 else L
 
 
 # ---------------------------------------------------------------------------------------------------------
