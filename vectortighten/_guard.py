@@ -30,7 +30,7 @@ import shapely
 from shapely.geometry import Polygon
 
 from .errors import ConvergenceWarning, TighteningError, TighteningFailedError
-from .offsets import shrink_is_empty
+from .offsets import precision_of, shrink_is_empty
 from .tolerances import CORNER_ANGLE, THICKEN_R, rounding_length
 
 __all__ = ["containment_problems", "core_vanishes", "drop_specks", "guarded_tighten", "vanishes"]
@@ -54,10 +54,12 @@ def vanishes(S, r: float) -> bool:
     """Whether no disk of radius r fits in the bounding box of S (then every tightening of S is empty).
 
     A disk inside S lies in its bounding box; an enclosed component of the anticore is a union of r-disks
-    inside the convex hull of S. Both need ``2r`` at most the smaller side of the box.
+    inside the convex hull of S. Both need ``2r`` at most the smaller side of the box, to the precision
+    the exact offsets decide ties with (`offsets.precision_of`): a bar drawn 2r wide whose width rounds a
+    few ulps below 2r keeps its centre line, as the engine's exact shrink does.
     """
     x0, y0, x1, y1 = S.bounds
-    return 2.0 * r > min(x1 - x0, y1 - y0)
+    return 2.0 * r > min(x1 - x0, y1 - y0) + 4.0 * precision_of(S)
 
 
 def core_vanishes(S, r: float, precision: float | None = None) -> bool:
@@ -278,9 +280,39 @@ def containment_problems(result) -> list[str]:
         # empty, and T lies in the fillet. Buffering S to see that again costs as much as an opening and a
         # closing (4.8 s on a 100k-vertex spiral strip); `Tightening.verify` asks the exact shrink again.
         return []
+    exact = cache.get("_exact")
+    ctx = exact[0] if exact is not None else None
+    if getattr(ctx, "guide_free", False):
+        return _exact_point_problems(result, ctx)
     problems = _containment_problems(result, _COARSE_QUAD_SEGS)
     if problems and cache.get("_path") in ("fast", "convex"):
         problems = _containment_problems(result, _FINER_QUAD_SEGS)
+    return problems
+
+
+def _exact_point_problems(result, ctx) -> list[str]:
+    """`containment_problems` on loops shown from the exact shrink (`engine._shrink_loops`), which built no
+    guide core or fillet: every test point of S's exact shrink in T, none of its complement's.
+
+    Such loops stay out of the open core and anticore, so each of those points is r or more from them and
+    T's sampled geometry places it beyond doubt; each part of the open core and of the open anticore holds
+    such points (as `Tightening.verify` reads them). GEOS's coarse buffers, the fast path's check, can
+    go wrong where parts of S touch at a point (the negative buffer of two touching octagons, one too thin
+    for any disk, kept a ghost of the thin one).
+    """
+    frame = result._cache["_frame"]
+    T = frame.to_local(result.geometry) if not result.geometry.is_empty else result.geometry
+    shapely.prepare(T)
+    problems = []
+    for X, inside, what in ((ctx.xE, True, "misses {} of the core's exact points"),
+                            (ctx.xG, False, "covers {} of the anticore's exact points")):
+        xy = X.test_points()
+        if not len(xy):
+            continue
+        hit = shapely.intersects_xy(T, xy[:, 0], xy[:, 1]) if not T.is_empty else np.zeros(len(xy), bool)
+        wrong = int((~hit).sum()) if inside else int(hit.sum())
+        if wrong:
+            problems.append("it " + what.format(wrong))
     return problems
 
 

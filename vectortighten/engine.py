@@ -172,6 +172,7 @@ class _Context:
         self.oindex = EdgeIndex(self.oedges[:, 0], self.oedges[:, 1], r, box_pairs=_OBSTACLE_BOX_PAIRS)
         self._R = None
         self._F = None
+        self.guide_free = False               # every loop shown without the guide core and fillet
         self._domain = None
         self.violation_cache: dict = {}       # `_violations` outcomes by piece, for the exact finish
 
@@ -1224,6 +1225,212 @@ def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
     return taken, rest
 
 
+def _shrink_loops(ctx: _Context) -> list[_DiskLoop] | None:
+    """The tight loops of a shape without holes found from the exact shrink's boundary: no guide core or
+    fillet, no free space; None where they cannot be shown to be the ones (the caller then builds those).
+
+    The argument of `_annulus_loops`, on the exact sets. S has no holes, so its complement is connected,
+    and so is that of the shrink ``E = S↓r``: each loop of E's boundary (chained from its exact pieces)
+    bounds one part of E. The core ``R = E ⊕ D_r`` is the union of the disks on E's parts, and its parts
+    are E's parts grouped by a distance under 2r (`_core_groups`). A hole of R lies in S, so no anticore
+    lies in it and its loop shrinks away: the tightening from the core is bounded by one loop a part of
+    R. Each part gets the exact finish from a guess made along its loops of E (`_shrink_start`, spliced
+    where there are several); each loop must settle, turn by +2π and, with all the others, neither touch
+    itself nor another (`_contacts`). A settled loop stays out of the open core and anticore, so it is r or
+    more from every point of E and of ``(S^c)↓r``: such points lie on one side of it or the other beyond
+    doubt. It must hold a point of each of its own loops of E and no point of any other loop of E, nor of
+    any loop of ``(S^c)↓r`` (a pocket of anticore in a cavity of S; the anticore round S no settled loop
+    can enclose). It then encloses one part of R and nothing else the mortar has holes round: the unique
+    taut loop of that part, the free space's. A part of E that is a single point (an isolated corner: a
+    loop of one disk, which the finish does not check) is left to the caller, as is any failure: one loop
+    not shown sends every ring the other way.
+    """
+    if ctx.two or ctx.zero or any(len(P.interiors) for P in shapely.get_parts(ctx.S)):
+        return None
+    kd, _ = ctx._kd[1]
+    if kd is None:
+        return None
+    from .exact_morphology import _NODE_PRECISIONS
+
+    r = ctx.r
+    tol = _NODE_PRECISIONS * max(ctx.xE.precision, ctx.xG.precision)
+    try:
+        P, cycles, lone = _offset_cycles(ctx.xE, tol)
+        PG, anti_cycles, anti_lone = _offset_cycles(ctx.xG, tol)
+    except RuntimeError:                                # the pieces do not close (`exact_morphology._chain`)
+        return None
+    if not cycles or len(lone):
+        return None
+    points = [_cycle_points(P, np.asarray(c), r) for c in cycles]
+    groups = _core_groups([xy for xy, _ in points], r)
+    if groups is None:
+        return None
+    loops = []
+    for group in groups:
+        starts = [_shrink_start(ctx, P, cycles[k], points[k], tol) for k in group]
+        if any(s is None for s in starts):
+            return None
+        start = starts[0]
+        for more in starts[1:]:
+            start = _spliced(ctx, start, more)
+        L = _without_grazed(ctx, _finish_steps(ctx, *start, rounds=_ANNULUS_ROUNDS))
+        if L is None or not L.converged or not (L.side > 0).any() or abs(float(L.sweep.sum()) - _TWO_PI) > 1e-6:
+            return None
+        loops.append(L)
+    if _contacts(ctx, loops):
+        return None
+    owner = np.empty(len(cycles), np.int64)
+    for g, group in enumerate(groups):
+        owner[group] = g
+    own = P.start[[c[0] for c in cycles]]
+    others = np.concatenate([PG.start[[c[0] for c in anti_cycles]].reshape(-1, 2), anti_lone.reshape(-1, 2)])
+    regions = [Polygon(L.to_loop().sample(1e-3 * r)) for L in loops]
+    point, region = shapely.STRtree(regions).query(shapely.points(np.concatenate([own, others])),
+                                                   predicate="within")
+    if len(point) != len(cycles) or not np.array_equal(np.sort(point), np.arange(len(cycles))) or \
+            (owner[point] != region).any():
+        return None                         # a loop misses its own part of E, or holds another's or anticore
+    return loops
+
+
+def _offset_cycles(X, tol: float):
+    """One side's exact offsets chained into cycles (`exact_morphology`): the pieces, the cycles (lists of
+    piece indices, the set on their left) and the isolated corners. Raises RuntimeError where the pieces
+    do not close."""
+    from .exact_morphology import _chain, _isolated, _Pieces, _pruned
+
+    X = _pruned(X, tol)
+    P = _Pieces(X, reverse=X.side < 0)
+    return P, _chain(P, tol), _isolated(X, P, tol)
+
+
+#: `_cycle_points`: an arc is sampled every this many radians (its chords within 0.02·r of it), a straight
+#: piece every r but at most this many times (r may be a millionth of the shape).
+_CYCLE_ARC_STEP = math.pi / 8
+_CYCLE_SEG_POINTS = 16
+
+
+def _cycle_points(P, idx: np.ndarray, r: float):
+    """Points along one chained cycle of offset pieces (arcs every `_CYCLE_ARC_STEP`, straight pieces
+    every r up to `_CYCLE_SEG_POINTS` times, each piece from its start) and the place of each: piece number
+    plus fraction along it."""
+    data, arc = P.data[idx], P.arc[idx]
+    seg_len = np.where(arc, 0.0, np.hypot(data[:, 2] - data[:, 0], data[:, 3] - data[:, 1]))
+    m = np.where(arc, np.ceil(np.abs(data[:, 4]) / _CYCLE_ARC_STEP),
+                 np.minimum(np.ceil(seg_len / r), _CYCLE_SEG_POINTS)).astype(np.int64)
+    m = np.maximum(m, 1)
+    row = np.repeat(np.arange(len(idx)), m)
+    f = (np.arange(len(row)) - np.repeat(np.cumsum(m) - m, m)) / np.repeat(m, m)
+    th = data[row, 3] + data[row, 4] * f
+    on_arc = data[row, :2] + data[row, 2:3] * np.column_stack([np.cos(th), np.sin(th)])
+    on_seg = data[row, :2] + f[:, None] * (data[row, 2:4] - data[row, :2])
+    return np.where(arc[row][:, None], on_arc, on_seg), row + f
+
+
+def _core_groups(points: list[np.ndarray], r: float) -> list[list[int]] | None:
+    """The loops of the shrink's boundary grouped into parts of the core: two parts of the shrink less than
+    2r apart have overlapping disks. From the loops' points (`_cycle_points`, within 0.02·r of the exact
+    loops); None where two loops are within 0.05·r of 2r apart, too close to call from them. Each group
+    in an order in which every loop after the first is less than 2r from one before it."""
+    if len(points) == 1:
+        return [[0]]
+    lines = np.array([shapely.linestrings(np.vstack([xy, xy[:1]])) for xy in points])
+    tree = shapely.STRtree(lines)
+    i, j = tree.query(lines, predicate="dwithin", distance=2.05 * r)
+    far = i != j
+    i, j = i[far], j[far]
+    if not len(i):
+        return [[k] for k in range(len(points))]
+    d = shapely.distance(lines[i], lines[j])
+    if ((d > 1.95 * r) & (d <= 2.05 * r)).any():
+        return None
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import breadth_first_order, connected_components
+
+    near = d <= 1.95 * r
+    graph = coo_matrix((np.ones(int(near.sum())), (i[near], j[near])), shape=(len(points),) * 2).tocsr()
+    n, label = connected_components(graph, directed=False)
+    groups = []
+    for g in range(n):
+        first = int(np.flatnonzero(label == g)[0])
+        groups.append(breadth_first_order(graph, first, directed=False, return_predecessors=False).tolist())
+    return groups
+
+
+def _shrink_start(ctx: _Context, P, cycle: list[int], points, tol: float):
+    """A cyclic disk sequence to start the exact finish from, made along one loop of the exact shrink's
+    boundary: the core disk at each of its corners (turning by the corner's turn), and every anticore disk
+    within (`_ANNULUS_REACH` + 1)·r of it, at the place along the loop nearest its centre; None if the
+    loop has no corner that is a core centre. ``points``: the loop's `_cycle_points`."""
+    from .exact_morphology import _turn
+
+    r = ctx.r
+    kd, ids = ctx._kd[1]
+    idx = np.asarray(cycle)
+    d, j = kd.query(P.start[idx], distance_upper_bound=tol)
+    at = np.flatnonzero(np.isfinite(d))
+    if not len(at):
+        return None
+    t_in, t_out = P.t1[np.roll(idx, 1)], P.t0[idx]
+    turn = _turn(t_in, t_out)
+    # Places along the core's boundary the loop runs round: piece k's points at 2k + 1 + fraction, the
+    # arc about corner k (the start of piece k) from 2k to 2k + 1, its disk at the middle.
+    place, cid, ref, side = [2.0 * at + 0.5], [ids[j[at]]], [turn[at]], [np.ones(len(at), np.int64)]
+    kd2, ids2 = ctx._kd[-1]
+    if kd2 is not None:
+        xy, where = points
+        reach = (_ANNULUS_REACH + 1.0) * r
+        c = ctx.cxy[ids2]
+        near = ids2[((c >= xy.min(axis=0) - reach) & (c <= xy.max(axis=0) + reach)).all(axis=1)]
+        if len(near):
+            dist, k = cKDTree(xy).query(ctx.cxy[near], distance_upper_bound=reach)
+            ok = np.isfinite(dist)
+            near, k = near[ok], k[ok]
+            piece = np.floor(where[k]).astype(np.int64)
+            frac = where[k] - piece
+            at_corner = frac == 0.0
+            # Nearest a corner: along the corner's arc, by the direction of the centre from it between the
+            # outward normals of the pieces in and out (the boundary's right side: E is on its left).
+            u = ctx.cxy[near] - xy[k]
+            a_in = np.arctan2(-t_in[piece, 0], t_in[piece, 1])
+            span = turn[piece]
+            rel = np.remainder(np.arctan2(u[:, 1], u[:, 0]) - a_in + math.pi, _TWO_PI) - math.pi
+            with np.errstate(invalid="ignore", divide="ignore"):
+                t = np.where(np.abs(span) > 1e-12, np.clip(rel / span, 0.0, 1.0), 0.5)
+            place.append(np.where(at_corner, 2.0 * piece + t, 2.0 * piece + 1.0 + frac))
+            cid.append(near)
+            ref.append(np.zeros(len(near)))
+            side.append(-np.ones(len(near), np.int64))
+    o = np.argsort(np.concatenate(place), kind="stable")
+    return np.concatenate(cid).astype(np.int64)[o], np.concatenate(side)[o], np.concatenate(ref)[o]
+
+
+def _spliced(ctx: _Context, a, b):
+    """Two guesses round parts of the shrink that one part of the core holds, made one: ``a`` up to its core
+    disk nearest one of ``b``'s, then ``b`` all round from that disk, then the rest of ``a`` (the way the
+    core's boundary runs from one part across the neck to the other and back); a disk of ``b`` that ``a``
+    holds already is left out."""
+    ca, sa, ra = a
+    cb, sb, rb = b
+    fresh = ~np.isin(cb, ca)
+    cb, sb, rb = cb[fresh], sb[fresh], rb[fresh]
+    core_a, core_b = np.flatnonzero(sa > 0), np.flatnonzero(sb > 0)
+    if not len(core_b):
+        return a
+    d, k = cKDTree(ctx.cxy[cb[core_b]]).query(ctx.cxy[ca[core_a]])
+    i = int(core_a[np.argmin(d)])
+    j = int(core_b[k[np.argmin(d)]])
+    roll = np.r_[j:len(cb), 0:j]
+    # The disks at the two ends of each crossing turn by what the neck leaves of their corners, which
+    # is not known here: no turn to go by (else a corner turned the wrong way there would be taken the
+    # long way round, and the loop would wind twice).
+    ref = np.concatenate([ra[:i + 1], rb[roll], ra[i + 1:]])
+    n_b = len(roll)
+    ref[[i, i + 1, i + n_b, (i + n_b + 1) % len(ref)]] = 0.0
+    return (np.concatenate([ca[:i + 1], cb[roll], ca[i + 1:]]), np.concatenate([sa[:i + 1], sb[roll], sa[i + 1:]]),
+            ref)
+
+
 def _hole_witnesses(ctx: _Context, F_part: Polygon) -> np.ndarray | None:
     """One anticore centre in each hole of a part of the guide fillet (r deep in the anticore there, so r
     or more from any loop in the mortar), or None if some hole holds none."""
@@ -2179,6 +2386,20 @@ def _split_fast(S, r: float, q: int, init: str, precision: float, frame: _Frame,
     return done, rest
 
 
+def _core_loops(ctx: _Context, S_local, init: Init, shortcuts: bool) -> list[_DiskLoop]:
+    """The general engine's tight loops: with ``shortcuts`` and ``init="core"``, those shown from the exact
+    shrink's boundary (`_shrink_loops`) or, failing that, round the guide core's parts that are annuli
+    (`_annulus_loops`); the rest through the free space."""
+    if shortcuts and init is Init.CORE:
+        loops = _shrink_loops(ctx)
+        if loops is not None:
+            ctx.guide_free = True
+            return loops
+    rings = _initial_rings(ctx, S_local, init)
+    taut, rings = _annulus_loops(ctx, rings) if shortcuts and init is Init.CORE else ([], rings)
+    return taut + (_tighten_all(ctx, rings) if rings else [])
+
+
 def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Tightening:
     """`tighten` on checked arguments; ``allow_fast=False`` forces the general engine (for testing)."""
     frame = _Frame.of(S)
@@ -2210,9 +2431,7 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
             groups, rest = split
             if rest is not None:
                 sub = _Context(rest, r_l, tol_l, precision)
-                rings = _initial_rings(sub, rest, init)
-                taut, rings = _annulus_loops(sub, rings) if init is Init.CORE else ([], rings)
-                more = taut + (_tighten_all(sub, rings) if rings else [])
+                more = _core_loops(sub, rest, init, True)
                 more_loops = [frame.loop_to_world(L.to_loop()) for L in more]
                 groups.append((rest, sub, more, more_loops, _assemble(more_loops, tol)))
             # Each group's result is checked and verified as its path's would be (`_guard.containment_problems`,
@@ -2240,10 +2459,7 @@ def _tighten(S, r: float, init: Init, tol: float, allow_fast: bool = True) -> Ti
             fast, path = disk_loops, "split"
     if fast is None:
         ctx = _Context(S_local, r_l, tol_l, precision)
-        rings = _initial_rings(ctx, S_local, init)
-        # The parts of the mortar that are annuli: their loops found without the free space.
-        taut, rings = _annulus_loops(ctx, rings) if allow_fast and init is Init.CORE else ([], rings)
-        disk_loops = taut + (_tighten_all(ctx, rings) if rings else [])
+        disk_loops = _core_loops(ctx, S_local, init, allow_fast)
         loops = [frame.loop_to_world(L.to_loop()) for L in disk_loops]
         geometry = _assemble(loops, tol)
     result = Tightening(loops=loops, geometry=geometry, r=r, init=init.value, tolerance=tol, shape=S,

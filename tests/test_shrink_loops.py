@@ -1,0 +1,195 @@
+"""Tight loops shown from the exact shrink's boundary (`engine._shrink_loops`): for a shape without holes,
+each part of the core gets the exact finish from a guess made along its loops of ``S↓r``, and a loop is
+kept only if it settles, turns once, touches nothing and holds exactly its own part's points of the
+shrink and no point of the complement's shrink. No guide core, fillet or free space is built. It must
+give the free space's loops exactly and decline whatever it cannot show."""
+
+import warnings
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from scipy.spatial import ConvexHull
+from shapely.geometry import Polygon, box
+
+import vectortighten as vt
+from vectortighten import engine
+
+from .engines import assert_exact, assert_same, general
+from .strategies import pixel_outline, radii_for, shapes
+from .test_annulus import harmonic
+from .test_split import STEPPED, comb
+
+#: Two squares whose shrinks are 1.41r apart at their corners: two loops of the shrink, one part of the core.
+CORNERS = shapely.union_all([box(0, 0, 6, 6), box(5, 5, 11, 11)])
+#: Two squares joined by a neck thinner than 2r: two parts of the core, one loop each.
+DUMBBELL = shapely.union_all([box(0, 0, 6, 6), box(10, 0, 16, 6), box(6, 2.5, 10, 3.5)])
+#: A C round a cavity whose mouth (1 wide) no r-disk passes at r = 2: a pocket of anticore inside.
+POCKET = box(0, 0, 20, 20).difference(box(5, 5, 15, 15)).difference(box(9.5, 15, 10.5, 20))
+
+SHAPES = {
+    "stepped footprint": (STEPPED, 1.0),
+    "comb": (comb(12), 1.0),
+    "harmonic star": (harmonic(1000), 1.0),
+    "pixel outline": (pixel_outline(600), 0.6),
+    "corners": (CORNERS, 1.0),
+    "dumbbell": (DUMBBELL, 1.0),
+    "pocket": (POCKET, 2.0),
+}
+
+
+@pytest.fixture
+def shown(monkeypatch):
+    """What `_shrink_loops` returned on each call during a test (None: declined)."""
+    seen = []
+    inner = engine._shrink_loops
+
+    def spy(ctx):
+        out = inner(ctx)
+        seen.append((ctx, out))
+        return out
+
+    monkeypatch.setattr(engine, "_shrink_loops", spy)
+    return seen
+
+
+def context(S, r):
+    """The general engine's context for S at r (local frame), as `tighten` builds it."""
+    return general(S, r)._cache["_exact"][0]
+
+
+@pytest.mark.parametrize("name", sorted(SHAPES))
+def test_the_loops_shown_from_the_shrink_are_the_free_space_loops(name, shown):
+    S, r = SHAPES[name]
+    T = vt.tighten(S, r)
+    assert T._cache["_path"] == "general"
+    (ctx, loops), = shown
+    assert loops is not None                            # shown, without the guide core and fillet
+    assert ctx._R is None and ctx._F is None and ctx._domain is None
+    G = general(S, r)
+    assert_same(T, G)
+    mine, theirs = T._cache["_exact"][1], G._cache["_exact"][1]
+    assert sorted(sorted(L.cid.tolist()) for L in mine) == sorted(sorted(L.cid.tolist()) for L in theirs)
+    assert_exact(S, r, T)
+    assert T.converged and T.verify() == []
+
+
+def test_two_parts_of_the_shrink_nearer_than_2r_are_one_part_of_the_core(shown):
+    T = vt.tighten(CORNERS, 1.0)
+    (ctx, loops), = shown
+    tol = 64.0 * max(ctx.xE.precision, ctx.xG.precision)
+    P, cycles, lone = engine._offset_cycles(ctx.xE, tol)
+    points = [engine._cycle_points(P, np.asarray(c), ctx.r)[0] for c in cycles]
+    assert len(cycles) == 2 and len(lone) == 0
+    assert engine._core_groups(points, ctx.r) in ([[0, 1]], [[1, 0]])
+    assert loops is not None and len(loops) == 1 and len(T.loops) == 1       # one loop round both
+
+
+def test_parts_of_the_shrink_farther_than_2r_apart_get_a_loop_each(shown):
+    T = vt.tighten(DUMBBELL, 1.0)
+    (_, loops), = shown
+    assert loops is not None and len(loops) == 2 and len(T.loops) == 2
+
+
+@pytest.mark.parametrize("gap, groups", [(1.5, [[0, 1]]), (2.0, None), (1.97, None), (2.04, None),
+                                         (3.0, [[0], [1]])])
+def test_parts_of_the_shrink_are_grouped_by_2r_and_not_at_all_too_near_it(gap, groups):
+    # Two unit squares' boundaries `gap` apart (r = 1): nearer than 2r, one part of the core; farther,
+    # two; within 0.05r of 2r, too near to call from points within 0.02r of the exact loops.
+    square = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
+    got = engine._core_groups([square, square + (1.0 + gap, 0.0)], 1.0)
+    if groups is None:
+        assert got is None
+    else:
+        assert sorted(sorted(g) for g in got) == groups
+
+
+def test_a_shape_with_a_hole_is_left_to_the_guide():
+    ring = box(0, 0, 20, 20).difference(box(6, 6, 14, 14))
+    assert engine._shrink_loops(context(ring, 1.0)) is None
+    assert_same(vt.tighten(ring, 1.0), general(ring, 1.0))
+
+
+def test_a_loop_round_a_pocket_of_the_anticore_is_refused(monkeypatch):
+    # The pocket's witness (a point of the complement's shrink in the cavity) refuses a loop that
+    # settles round the outside of the C: a taut loop, in the wrong class.
+    ctx = context(POCKET, 2.0)
+    core = np.flatnonzero(ctx.cside == 1)
+    hull = core[ConvexHull(ctx.cxy[core]).vertices]             # counter-clockwise
+    settled = []
+    finish = engine._finish_steps
+
+    def spy(ctx_, cid, side, ref, rounds=None):
+        out = finish(ctx_, cid, side, ref, rounds=rounds)
+        settled.append(out is not None and out.converged)
+        return out
+
+    monkeypatch.setattr(engine, "_shrink_start", lambda *a: (hull, np.ones(len(hull), np.int64),
+                                                             np.zeros(len(hull))))
+    monkeypatch.setattr(engine, "_finish_steps", spy)
+    assert engine._shrink_loops(ctx) is None
+    assert settled and settled[0]                               # it settled: only the witness refused it
+    monkeypatch.undo()
+    assert engine._shrink_loops(context(POCKET, 2.0)) is not None     # the guess along the C is right
+
+
+def test_touching_loops_are_left_to_the_surgery(monkeypatch):
+    ctx = context(DUMBBELL, 1.0)
+    assert engine._shrink_loops(ctx) is not None
+    monkeypatch.setattr(engine, "_contacts", lambda ctx, loops: [(0, 0, None, 1, 0, None)])
+    assert engine._shrink_loops(ctx) is None
+
+
+def test_the_final_check_does_not_build_the_guide(monkeypatch):
+    # The final check of a result shown from the shrink uses coarse buffers, as the fast path's does:
+    # building the guide core and fillet only for it would cost more than the loops did.
+    T = vt.tighten(STEPPED, 1.0)
+    ctx = T._cache["_exact"][0]
+    assert ctx.guide_free and ctx._R is None and ctx._F is None
+    from vectortighten import _guard
+
+    assert _guard.containment_problems(T) == [] and ctx._R is None
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_random_shapes_tighten_the_same_with_and_without_the_shortcuts(data):
+    S = data.draw(shapes)
+    r = data.draw(radii_for(S))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        T = vt.tighten(S, r)
+        G = general(S, r)
+    assert T.converged == G.converged
+    assert_same(T, G, rel=1e-9)
+
+
+def test_a_bar_drawn_2r_wide_keeps_its_centre_line():
+    # 2.3 − 2 rounds to 0.2999999999999998: the box's width is 2r to the precision of its coordinates,
+    # which is how the exact shrink decides the tie (the closed shrink is the centre line). The bounding
+    # box test before the engine (`_guard.vanishes`) called it empty.
+    S = Polygon([(1, 2), (1, 2.3), (0, 2.3), (0, 2)])
+    T = vt.tighten(S, 0.15)
+    assert T.area == pytest.approx(0.7 * 0.3 + np.pi * 0.15 ** 2, rel=1e-12)
+    assert_same(T, general(S, 0.15))
+
+
+def test_the_final_check_reads_the_exact_points_where_coarse_buffers_go_wrong():
+    # Found by the random shapes: two octagons touching at a point, the small one too thin for a disk at
+    # r = 1. GEOS's negative buffer of the pair keeps a ghost of the small one, and the coarse check said
+    # the loop missed 2.8·r² of the core; the exact points of the shrinks say what is so.
+    big = shapely.Point(0, 0).buffer(2.0, quad_segs=2)
+    small = shapely.Point(0, 3).buffer(1.0, quad_segs=2)
+    S = shapely.MultiPolygon([big, small])
+    assert shapely.intersection(big, small).geom_type == "Point"
+    from vectortighten import _guard
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        T = vt.tighten(S, 1.0)
+    assert T.converged and T.verify() == [] and _guard.containment_problems(T) == []
+    assert_same(T, general(S, 1.0))
+    T.geometry = Polygon()                                # a result that misses the core is caught
+    assert any("misses" in p for p in _guard.containment_problems(T))
