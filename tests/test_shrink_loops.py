@@ -1,5 +1,5 @@
-"""Tight loops shown from the exact shrink's boundary (`engine._shrink_loops`): for a shape without holes,
-each part of the core gets the exact finish from a guess made along its loops of ``S↓r``, and a loop is
+"""Tight loops shown from the exact shrink's boundary (`engine._shrink_loops`): where no part of S↓r has a
+hole, each part of the core gets the exact finish from a guess made along its loops of ``S↓r``, and a loop is
 kept only if it settles, turns once, touches nothing and holds exactly its own part's points of the
 shrink and no point of the complement's shrink. No guide core, fillet or free space is built. It must
 give the free space's loops exactly and decline whatever it cannot show."""
@@ -28,6 +28,8 @@ CORNERS = shapely.union_all([box(0, 0, 6, 6), box(5, 5, 11, 11)])
 DUMBBELL = shapely.union_all([box(0, 0, 6, 6), box(10, 0, 16, 6), box(6, 2.5, 10, 3.5)])
 #: A C round a cavity whose mouth (1 wide) no r-disk passes at r = 2: a pocket of anticore inside.
 POCKET = box(0, 0, 20, 20).difference(box(5, 5, 15, 15)).difference(box(9.5, 15, 10.5, 20))
+#: A square with a lake whose right wall (1.5 wide) holds no core at r = 1: S has a hole, its shrink none.
+LAKE = box(0, 0, 20, 20).difference(box(5, 5, 18.5, 15))
 
 SHAPES = {
     "stepped footprint": (STEPPED, 1.0),
@@ -37,6 +39,7 @@ SHAPES = {
     "corners": (CORNERS, 1.0),
     "dumbbell": (DUMBBELL, 1.0),
     "pocket": (POCKET, 2.0),
+    "lake": (LAKE, 1.0),
 }
 
 
@@ -106,9 +109,16 @@ def test_parts_of_the_shrink_are_grouped_by_2r_and_not_at_all_too_near_it(gap, g
         assert sorted(sorted(g) for g in got) == groups
 
 
-def test_a_shape_with_a_hole_is_left_to_the_guide():
-    ring = box(0, 0, 20, 20).difference(box(6, 6, 14, 14))
-    assert engine._shrink_loops(context(ring, 1.0)) is None
+def test_a_shrink_with_a_hole_is_left_to_the_guide():
+    ring = box(0, 0, 20, 20).difference(box(6, 6, 14, 14))          # the shrink is an annulus
+    ctx = context(ring, 1.0)
+    P, cycles, _ = engine._offset_cycles(ctx.xE, 64.0 * max(ctx.xE.precision, ctx.xG.precision))
+    areas = engine._cycle_areas(P, cycles)
+    assert sorted(np.sign(areas)) == [-1, 1]
+    # in the local frame (size 1): the outer loop bounds the 18 × 18 square, the hole the 10 × 10 one
+    # with its corners rounded by r, all over 20²
+    assert sorted(areas) == pytest.approx([-(100 - (4 - np.pi)) / 400, 324 / 400], rel=1e-12)
+    assert engine._shrink_loops(ctx) is None
     assert_same(vt.tighten(ring, 1.0), general(ring, 1.0))
 
 

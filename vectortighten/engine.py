@@ -20,6 +20,12 @@ Pipeline (see DESIGN §4):
 A faster path handles the common case where every corner of S is isolated: each vertex then gets its own
 disk (inside at a convex vertex, outside at a reflex one), and the loop is certified with the same checks
 as the exact finish, without any triangulation.
+
+Between the two, for ``init="core"``, the general engine first looks for the tight loops without the free
+space: from the exact shrink's boundary where it has no holes (`_shrink_loops`), else round the guide
+core's parts that are annuli of the mortar (`_annulus_loops`). Each loop so found is the exact finish's
+from a guess, kept only where it is shown to be the one the free space would give; the rest go through
+steps 3–5.
 """
 
 from __future__ import annotations
@@ -1226,26 +1232,28 @@ def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
 
 
 def _shrink_loops(ctx: _Context) -> list[_DiskLoop] | None:
-    """The tight loops of a shape without holes found from the exact shrink's boundary: no guide core or
-    fillet, no free space; None where they cannot be shown to be the ones (the caller then builds those).
+    """The tight loops found from the exact shrink's boundary where no part of the shrink has a hole: no
+    guide core or fillet, no free space; None where they cannot be shown to be the ones (the caller then
+    builds those).
 
-    The argument of `_annulus_loops`, on the exact sets. S has no holes, so its complement is connected,
-    and so is that of the shrink ``E = S↓r``: each loop of E's boundary (chained from its exact pieces)
-    bounds one part of E. The core ``R = E ⊕ D_r`` is the union of the disks on E's parts, and its parts
-    are E's parts grouped by a distance under 2r (`_core_groups`). A hole of R lies in S, so no anticore
-    lies in it and its loop shrinks away: the tightening from the core is bounded by one loop a part of
-    R. Each part gets the exact finish from a guess made along its loops of E (`_shrink_start`, spliced
-    where there are several); each loop must settle, turn by +2π and, with all the others, neither touch
-    itself nor another (`_contacts`). A settled loop stays out of the open core and anticore, so it is r or
-    more from every point of E and of ``(S^c)↓r``: such points lie on one side of it or the other beyond
-    doubt. It must hold a point of each of its own loops of E and no point of any other loop of E, nor of
-    any loop of ``(S^c)↓r`` (a pocket of anticore in a cavity of S; the anticore round S no settled loop
-    can enclose). It then encloses one part of R and nothing else the mortar has holes round: the unique
-    taut loop of that part, the free space's. A part of E that is a single point (an isolated corner: a
-    loop of one disk, which the finish does not check) is left to the caller, as is any failure: one loop
-    not shown sends every ring the other way.
+    The argument of `_annulus_loops`, on the exact sets. Each loop of the boundary of ``E = S↓r``
+    (chained from its exact pieces) bounds one part of E; a clockwise loop (a part with a hole) declines.
+    The core ``R = E ⊕ D_r`` is the union of the disks on E's parts, and its parts are E's parts grouped by
+    a distance under 2r (`_core_groups`). A hole of R with no anticore in it has a loop that shrinks away:
+    the tightening from the core is then bounded by one loop a part of R. Each part gets the exact finish
+    from a guess made along its loops of E (`_shrink_start`, spliced where there are several); each loop
+    must settle, turn by +2π and, with all the others, neither touch itself nor another (`_contacts`). A
+    settled loop stays out of the open core and anticore, so it is r or more from every point of E and of
+    ``(S^c)↓r``: such points lie on one side of it or the other beyond doubt. It must hold a point of each
+    of its own loops of E and no point of any other loop of E, nor of any loop or isolated point of
+    ``(S^c)↓r`` (every part of the anticore inside a loop holds such points: a pocket in a cavity or a
+    hole of S, anticore in a hole of R; the anticore round S no settled loop can enclose). It then encloses
+    one part of R and nothing else the mortar has holes round: the unique taut loop of that part, the free
+    space's, and no hole of that part keeps a loop. A part of E that is a single point (an isolated
+    corner: a loop of one disk, which the finish does not check) is left to the caller, as is any
+    failure: one loop not shown sends every ring the other way.
     """
-    if ctx.two or ctx.zero or any(len(P.interiors) for P in shapely.get_parts(ctx.S)):
+    if ctx.two or ctx.zero:
         return None
     kd, _ = ctx._kd[1]
     if kd is None:
@@ -1259,8 +1267,8 @@ def _shrink_loops(ctx: _Context) -> list[_DiskLoop] | None:
         PG, anti_cycles, anti_lone = _offset_cycles(ctx.xG, tol)
     except RuntimeError:                                # the pieces do not close (`exact_morphology._chain`)
         return None
-    if not cycles or len(lone):
-        return None
+    if not cycles or len(lone) or (_cycle_areas(P, cycles) < -tol * r).any():
+        return None                   # a part of the shrink that is a single point, or one with a hole
     points = [_cycle_points(P, np.asarray(c), r) for c in cycles]
     groups = _core_groups([xy for xy, _ in points], r)
     if groups is None:
@@ -1302,6 +1310,20 @@ def _offset_cycles(X, tol: float):
     X = _pruned(X, tol)
     P = _Pieces(X, reverse=X.side < 0)
     return P, _chain(P, tol), _isolated(X, P, tol)
+
+
+def _cycle_areas(P, cycles: list[list[int]]) -> np.ndarray:
+    """The signed area each chained cycle of offset pieces encloses (counter-clockwise positive), from
+    its pieces in closed form: ½∮(x dy − y dx) over each segment, and over each arc
+    ½(ρ²·sweep + ρ·(cx·(sin a1 − sin a0) − cy·(cos a1 − cos a0)))."""
+    d, arc = P.data, P.arc
+    seg = 0.5 * (d[:, 0] * d[:, 3] - d[:, 2] * d[:, 1])
+    a0, sw = d[:, 3], d[:, 4]
+    a1 = a0 + sw
+    rho = d[:, 2]
+    arcs = 0.5 * (rho * rho * sw + rho * (d[:, 0] * (np.sin(a1) - np.sin(a0)) - d[:, 1] * (np.cos(a1) - np.cos(a0))))
+    each = np.where(arc, arcs, seg)
+    return np.array([each[c].sum() for c in cycles])
 
 
 #: `_cycle_points`: an arc is sampled every this many radians (its chords within 0.02·r of it), a straight
