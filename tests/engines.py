@@ -21,6 +21,14 @@ def general(S, r, init="core"):
         return engine._tighten(S, r, engine.Init(init), 1e-5 * r, allow_fast=False)
 
 
+def with_and_without_shortcuts(S, r):
+    """``(vt.tighten(S, r), general(S, r))``, warnings silenced: the engine as users get it and the general
+    engine alone, for property tests that every shortcut gives the same answer."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return vt.tighten(S, r), general(S, r)
+
+
 def assert_same(T, G, rel=1e-12):
     """The same tightening: as many loops, perimeter and area equal to ``rel``, no area between them."""
     assert len(T.loops) == len(G.loops)

@@ -9,7 +9,6 @@ is not cut where it touches a disk at one point, whichever way the loop was foun
 
 import math
 import sys
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +22,7 @@ from shapely.geometry import Polygon, box
 import vectortighten as vt
 from vectortighten import engine
 
-from .engines import assert_exact, assert_same, counted_checks, general
+from .engines import assert_exact, assert_same, counted_checks, general, with_and_without_shortcuts
 from .strategies import pixel_outline, radii_for, stars
 from .test_split import STEPPED, comb
 
@@ -105,11 +104,7 @@ def test_the_annulus_loop_is_the_free_space_loop(name, taken):
 @given(data=st.data())
 def test_random_stars_tighten_the_same_with_and_without_the_shortcut(data):
     S = data.draw(stars())
-    r = data.draw(radii_for(S))
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        T = vt.tighten(S, r)
-        G = general(S, r)
+    T, G = with_and_without_shortcuts(S, data.draw(radii_for(S)))
     assert T.converged == G.converged
     assert_same(T, G)
 

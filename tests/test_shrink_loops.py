@@ -17,7 +17,7 @@ from shapely.geometry import Polygon, box
 import vectortighten as vt
 from vectortighten import engine
 
-from .engines import assert_exact, assert_same, general
+from .engines import assert_exact, assert_same, general, with_and_without_shortcuts
 from .strategies import pixel_outline, radii_for, shapes
 from .test_annulus import harmonic
 from .test_split import STEPPED, comb
@@ -167,11 +167,7 @@ def test_the_final_check_does_not_build_the_guide(monkeypatch):
 @given(data=st.data())
 def test_random_shapes_tighten_the_same_with_and_without_the_shortcuts(data):
     S = data.draw(shapes)
-    r = data.draw(radii_for(S))
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        T = vt.tighten(S, r)
-        G = general(S, r)
+    T, G = with_and_without_shortcuts(S, data.draw(radii_for(S)))
     assert T.converged == G.converged
     assert_same(T, G, rel=1e-9)
 
