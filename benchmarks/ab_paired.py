@@ -7,10 +7,11 @@ with A then B, or B then A, alternately, ``--repeats`` times; the totals give B 
 
 Modes: ``tighten`` (the footprints of `bench_geo.footprints(300, seed=3)` that B's general engine takes,
 r = 1), ``offsets`` (`offsets.exact_offsets` of those, both sides), ``families`` (`bench_families`' families
-at 1000 vertices, their r, tolerance 1e-5·r), ``famoffsets`` (their exact offsets, both sides).
+at ``--size`` vertices, 1000 unless told, their r, tolerance 1e-5·r; ``--families`` picks any of
+``ALL_FAMILIES``), ``famoffsets`` (their exact offsets, both sides).
 
 Run:  python benchmarks/ab_paired.py BEFORE_ROOT AFTER_ROOT [tighten|offsets|families|famoffsets]
-      [--repeats 5]
+      [--repeats 5] [--size 1000] [--families NAME ...]
 """
 
 import argparse
@@ -54,6 +55,9 @@ def main() -> None:
     ap.add_argument("mode", nargs="?", default="tighten",
                     choices=["tighten", "offsets", "families", "famoffsets"])
     ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--size", type=int, default=1000, help="vertices of each family's shape (families modes)")
+    ap.add_argument("--families", nargs="+", default=None,
+                    help="families to time (default: the five of bench_families.FAMILIES)")
     args = ap.parse_args()
     warnings.simplefilter("ignore")
     trees = {args.a: _load(args.a), args.b: _load(args.b)}
@@ -65,8 +69,8 @@ def main() -> None:
     _use(args.b)
     vt_b = trees[args.b][0]
     if args.mode in ("families", "famoffsets"):
-        names = list(bench_families.FAMILIES)
-        cases = [(make(1000), r) for make, r in bench_families.FAMILIES.values()]
+        names = args.families or list(bench_families.FAMILIES)
+        cases = [(bench_families.ALL_FAMILIES[k][0](args.size), bench_families.ALL_FAMILIES[k][1]) for k in names]
     else:
         fps = bench_geo.footprints(300, seed=3)
         cases = [(g, 1.0) for g in fps if vt_b.tighten(g, 1.0)._cache["_path"] == "general"]

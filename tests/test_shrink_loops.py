@@ -82,8 +82,7 @@ def test_the_loops_shown_from_the_shrink_are_the_free_space_loops(name, shown):
 def test_two_parts_of_the_shrink_nearer_than_2r_are_one_part_of_the_core(shown):
     T = vt.tighten(CORNERS, 1.0)
     (ctx, loops), = shown
-    tol = 64.0 * max(ctx.xE.precision, ctx.xG.precision)
-    P, cycles, lone = engine._offset_cycles(ctx.xE, tol)
+    _, P, cycles, lone = ctx.side_loops(1)
     points = [engine._cycle_points(P, np.asarray(c), ctx.r)[0] for c in cycles]
     assert len(cycles) == 2 and len(lone) == 0
     assert engine._core_groups(points, ctx.r) in ([[0, 1]], [[1, 0]])
@@ -112,7 +111,7 @@ def test_parts_of_the_shrink_are_grouped_by_2r_and_not_at_all_too_near_it(gap, g
 def test_a_shrink_with_a_hole_is_left_to_the_guide():
     ring = box(0, 0, 20, 20).difference(box(6, 6, 14, 14))          # the shrink is an annulus
     ctx = context(ring, 1.0)
-    P, cycles, _ = engine._offset_cycles(ctx.xE, 64.0 * max(ctx.xE.precision, ctx.xG.precision))
+    _, P, cycles, _ = ctx.side_loops(1)
     areas = engine._cycle_areas(P, cycles)
     assert sorted(np.sign(areas)) == [-1, 1]
     # in the local frame (size 1): the outer loop bounds the 18 × 18 square, the hole the 10 × 10 one

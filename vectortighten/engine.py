@@ -178,6 +178,7 @@ class _Context:
         self.oindex = EdgeIndex(self.oedges[:, 0], self.oedges[:, 1], r, box_pairs=_OBSTACLE_BOX_PAIRS)
         self._R = None
         self._F = None
+        self._side_loops: dict = {}           # `side_loops`, by side
         self.guide_free = False               # every loop shown without the guide core and fillet
         self._domain = None
         self.violation_cache: dict = {}       # `_violations` outcomes by piece, for the exact finish
@@ -195,8 +196,10 @@ class _Context:
     def _guide_offsets(self):
         if self._EG is None:
             # S's exact shrink and grow sampled (`morphology._sampled`), where they can be built.
-            E = _m._sampled(self.S, self.ra, self.q_exact, "shrink", self.xE) if self.ra > 0 else self.S
-            G = _m._sampled(self.S, self.rb, self.q_exact, "grow", self.xG) if self.rb > 0 else self.S
+            E = _m._sampled(self.S, self.ra, self.q_exact, "shrink", self.xE, lambda: self.side_loops(1)) \
+                if self.ra > 0 else self.S
+            G = _m._sampled(self.S, self.rb, self.q_exact, "grow", self.xG, lambda: self.side_loops(-1)) \
+                if self.rb > 0 else self.S
             if E is not None and G is not None:
                 self._EG = (_m._orient(E), _m._orient(G))
                 return self._EG
@@ -216,6 +219,23 @@ class _Context:
             self._EG = (snap_onto(E, self.centers.xy[self.centers.side == 1], 1, window_a),
                         snap_onto(G, self.centers.xy[self.centers.side == -1], -1, window_b))
         return self._EG
+
+    def side_loops(self, side: int):
+        """The exact offsets of one side chained into loops (`exact_morphology._side_loops`: precision,
+        pieces, cycles, isolated corners), once: `_shrink_loops` reads them, and the guide's sampled shrink
+        and grow are built from them. Raises RuntimeError where the pieces do not close."""
+        if side not in self._side_loops:
+            from .exact_morphology import _side_loops
+
+            try:
+                self._side_loops[side] = _side_loops(self.S, self.ra if side > 0 else self.rb, side,
+                                                     self.xE if side > 0 else self.xG)
+            except RuntimeError as exc:
+                self._side_loops[side] = exc
+        got = self._side_loops[side]
+        if isinstance(got, RuntimeError):
+            raise got
+        return got
 
     # The core and fillet here only guide the search for each loop's homotopy class: the free space is
     # the mortar thickened by δ, and every contact of a finished loop is decided by the exact centres. So
@@ -1263,8 +1283,8 @@ def _shrink_loops(ctx: _Context) -> list[_DiskLoop] | None:
     r = ctx.r
     tol = _NODE_PRECISIONS * max(ctx.xE.precision, ctx.xG.precision)
     try:
-        P, cycles, lone = _offset_cycles(ctx.xE, tol)
-        PG, anti_cycles, anti_lone = _offset_cycles(ctx.xG, tol)
+        _, P, cycles, lone = ctx.side_loops(1)
+        _, PG, anti_cycles, anti_lone = ctx.side_loops(-1)
     except RuntimeError:                                # the pieces do not close (`exact_morphology._chain`)
         return None
     if not cycles or len(lone) or (_cycle_areas(P, cycles) < -tol * r).any():
@@ -1274,6 +1294,9 @@ def _shrink_loops(ctx: _Context) -> list[_DiskLoop] | None:
     if groups is None:
         return None
     loops = []
+    # Parts of the core made of several loops of the shrink first: their spliced guesses are the likeliest
+    # not to settle, and one that does not ends the search before the others are paid for.
+    groups.sort(key=len, reverse=True)
     for group in groups:
         starts = [_shrink_start(ctx, P, cycles[k], points[k], tol) for k in group]
         if any(s is None for s in starts):
@@ -1299,17 +1322,6 @@ def _shrink_loops(ctx: _Context) -> list[_DiskLoop] | None:
             (owner[point] != region).any():
         return None                         # a loop misses its own part of E, or holds another's or anticore
     return loops
-
-
-def _offset_cycles(X, tol: float):
-    """One side's exact offsets chained into cycles (`exact_morphology`): the pieces, the cycles (lists of
-    piece indices, the set on their left) and the isolated corners. Raises RuntimeError where the pieces
-    do not close."""
-    from .exact_morphology import _chain, _isolated, _Pieces, _pruned
-
-    X = _pruned(X, tol)
-    P = _Pieces(X, reverse=X.side < 0)
-    return P, _chain(P, tol), _isolated(X, P, tol)
 
 
 def _cycle_areas(P, cycles: list[list[int]]) -> np.ndarray:

@@ -670,11 +670,12 @@ def exact_fillet(S, r: float) -> list[Loop]:
     return _loops_of(S, r, "fillet")
 
 
-def _loops_of(S, r: float, operation: str, offsets: OffsetPieces | None = None) -> list[Loop]:
+def _loops_of(S, r: float, operation: str, offsets: OffsetPieces | None = None, chained=None) -> list[Loop]:
     """`exact_boundary` of an oriented, checked polygon S, from its `exact_offsets` of the side the
-    operation needs if they are given (`morphology` passes the ones it has)."""
+    operation needs if they are given (`morphology` passes the ones it has), or from `_side_loops` of that
+    side if it was run already (``chained``: what it returned; the engine keeps it)."""
     side = 1 if operation in ("shrink", "core") else -1
-    eps, P, cycles, lone = _side_loops(S, r, side, offsets)
+    eps, P, cycles, lone = _side_loops(S, r, side, offsets) if chained is None else chained
     if operation == "shrink":
         return _enclosing([_loop(P, c, _NODE_PRECISIONS * eps) for c in cycles], eps)
     if operation == "grow":

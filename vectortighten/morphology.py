@@ -118,9 +118,10 @@ def _exact(S: Polygonal, r: float, side: int):
     return exact_offsets(_orient(S), r, side)
 
 
-def _sampled(S: Polygonal, r: float, q: int, operation: str, exact=None) -> Polygonal | None:
+def _sampled(S: Polygonal, r: float, q: int, operation: str, exact=None, chained=None) -> Polygonal | None:
     """``operation`` of S sampled from its exact boundary (`exact_morphology`), or None where that is not
-    available; ``exact``: S's `exact_offsets` of the side the operation needs, if already computed.
+    available; ``exact``: S's `exact_offsets` of the side the operation needs, if already computed;
+    ``chained``: a callable giving their chained loops (`exact_morphology._side_loops`), if kept.
 
     The loops are S's own offsets in closed form (segments on or parallel to S's edges, arcs of radius
     r), each arc sampled by chords within the sagitta of GEOS's ``quad_segs = q``, so the result has the
@@ -134,7 +135,7 @@ def _sampled(S: Polygonal, r: float, q: int, operation: str, exact=None) -> Poly
     from .exact_morphology import _loops_of
 
     try:
-        loops = _loops_of(_orient(S), r, operation, exact)
+        loops = _loops_of(_orient(S), r, operation, exact, None if chained is None else chained())
     except (RuntimeError, ValueError, FloatingPointError):
         return None
     if not loops:
