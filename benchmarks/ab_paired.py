@@ -70,7 +70,7 @@ def main() -> None:
     vt_b = trees[args.b][0]
     if args.mode in ("families", "famoffsets"):
         names = args.families or list(bench_families.FAMILIES)
-        cases = [(bench_families.ALL_FAMILIES[k][0](args.size), bench_families.ALL_FAMILIES[k][1]) for k in names]
+        cases = [(make(args.size), r) for make, r in (bench_families.ALL_FAMILIES[k] for k in names)]
     else:
         fps = bench_geo.footprints(300, seed=3)
         cases = [(g, 1.0) for g in fps if vt_b.tighten(g, 1.0)._cache["_path"] == "general"]

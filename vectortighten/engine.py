@@ -1308,7 +1308,8 @@ def _shrink_loops(ctx: _Context) -> list[_DiskLoop] | None:
         for more in starts[1:]:
             start = _spliced(ctx, start, more)
         L = _without_grazed(ctx, _finish_steps(ctx, *start, rounds=_ANNULUS_ROUNDS))
-        if L is None or not L.converged or not (L.side > 0).any() or abs(float(L.sweep.sum()) - _TWO_PI) > 1e-6:
+        if L is None or not L.converged or not (L.side > 0).any() or \
+                abs(float(L.sweep.sum()) - _TWO_PI) > 1e-6:
             return None
         loops.append(L)
     if _contacts(ctx, loops):
@@ -1336,7 +1337,8 @@ def _cycle_areas(P, cycles: list[list[int]]) -> np.ndarray:
     a0, sw = d[:, 3], d[:, 4]
     a1 = a0 + sw
     rho = d[:, 2]
-    arcs = 0.5 * (rho * rho * sw + rho * (d[:, 0] * (np.sin(a1) - np.sin(a0)) - d[:, 1] * (np.cos(a1) - np.cos(a0))))
+    arcs = 0.5 * (rho * rho * sw
+                  + rho * (d[:, 0] * (np.sin(a1) - np.sin(a0)) - d[:, 1] * (np.cos(a1) - np.cos(a0))))
     each = np.where(arc, arcs, seg)
     return np.array([each[c].sum() for c in cycles])
 
@@ -1464,8 +1466,8 @@ def _spliced(ctx: _Context, a, b):
     ref = np.concatenate([ra[:i + 1], rb[roll], ra[i + 1:]])
     n_b = len(roll)
     ref[[i, i + 1, i + n_b, (i + n_b + 1) % len(ref)]] = 0.0
-    return (np.concatenate([ca[:i + 1], cb[roll], ca[i + 1:]]), np.concatenate([sa[:i + 1], sb[roll], sa[i + 1:]]),
-            ref)
+    return (np.concatenate([ca[:i + 1], cb[roll], ca[i + 1:]]),
+            np.concatenate([sa[:i + 1], sb[roll], sa[i + 1:]]), ref)
 
 
 def _hole_witnesses(ctx: _Context, F_part: Polygon) -> np.ndarray | None:
