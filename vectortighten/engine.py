@@ -1307,9 +1307,8 @@ def _shrink_loops(ctx: _Context) -> list[_DiskLoop] | None:
         start = starts[0]
         for more in starts[1:]:
             start = _spliced(ctx, start, more)
-        L = _without_grazed(ctx, _finish_steps(ctx, *start, rounds=_ANNULUS_ROUNDS))
-        if L is None or not L.converged or not (L.side > 0).any() or \
-                abs(float(L.sweep.sum()) - _TWO_PI) > 1e-6:
+        L = _settled(ctx, start)
+        if L is None:
             return None
         loops.append(L)
     if _contacts(ctx, loops):
@@ -1496,6 +1495,12 @@ def _annulus_loop(ctx: _Context, ring: np.ndarray) -> _DiskLoop | None:
     start = _annulus_start(ctx, ring)
     if start is None:
         return None
+    return _settled(ctx, start)
+
+
+def _settled(ctx: _Context, start) -> _DiskLoop | None:
+    """The exact finish from a guess ``(cid, side, ref)`` within `_ANNULUS_ROUNDS` rounds, if it settles on
+    a loop round at least one core disk that turns by +2π; else None."""
     L = _without_grazed(ctx, _finish_steps(ctx, *start, rounds=_ANNULUS_ROUNDS))
     if L is None or not L.converged or not (L.side > 0).any():
         return None
