@@ -46,9 +46,9 @@ def harmonic(n, seed=0):
 @pytest.fixture
 def taken(monkeypatch):
     """What `_annulus_loop` returned on each call during a test (None: declined or given up), with the
-    loops from the exact shrink (`engine._shrink_loops`, tested in test_shrink_loops.py) turned off: on
+    loops from the exact shrink (`engine._shrink_parts`, tested in test_shrink_loops.py) turned off: on
     these shapes they would come first, and this shortcut is what the engine falls back on."""
-    monkeypatch.setattr(engine, "_shrink_loops", lambda ctx: None)
+    monkeypatch.setattr(engine, "_shrink_parts", lambda ctx: None)
     seen = []
     inner = engine._annulus_loop
 

@@ -1,8 +1,9 @@
-"""Tight loops shown from the exact shrink's boundary (`engine._shrink_loops`): where no part of S↓r has a
+"""Tight loops shown from the exact shrink's boundary (`engine._shrink_parts`): where no part of S↓r has a
 hole, each part of the core gets the exact finish from a guess made along its loops of ``S↓r``, and a loop is
-kept only if it settles, turns once, touches nothing and holds exactly its own part's points of the
-shrink and no point of the complement's shrink. No guide core, fillet or free space is built. It must
-give the free space's loops exactly and decline whatever it cannot show."""
+kept only if it settles, turns once and holds exactly its own part's points of the shrink and no point of
+the complement's shrink; loops that touch are the surgery's. No guide core, fillet or free space is built
+where every part is shown; a part that is not goes alone through the free space. It must give the free
+space's loops exactly and decline whatever it cannot show."""
 
 import warnings
 
@@ -12,7 +13,7 @@ import shapely
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import ConvexHull
-from shapely.geometry import Polygon, box
+from shapely.geometry import Point, Polygon, box
 
 import vectortighten as vt
 from vectortighten import engine
@@ -45,16 +46,17 @@ SHAPES = {
 
 @pytest.fixture
 def shown(monkeypatch):
-    """What `_shrink_loops` returned on each call during a test (None: declined)."""
+    """The loops `_shrink_parts` showed on each call during a test (None: declined, or not all shown)."""
     seen = []
-    inner = engine._shrink_loops
+    inner = engine._shrink_parts
 
     def spy(ctx):
         out = inner(ctx)
-        seen.append((ctx, out))
+        loops = None if out is None or any(L is None for L, _ in out) else [L for L, _ in out]
+        seen.append((ctx, loops))
         return out
 
-    monkeypatch.setattr(engine, "_shrink_loops", spy)
+    monkeypatch.setattr(engine, "_shrink_parts", spy)
     return seen
 
 
@@ -142,6 +144,68 @@ def test_a_loop_round_a_pocket_of_the_anticore_is_refused(monkeypatch):
     assert settled and settled[0]                               # it settled: only the witness refused it
     monkeypatch.undo()
     assert engine._shrink_loops(context(POCKET, 2.0)) is not None     # the guess along the C is right
+
+
+#: Two 128-gons of radius 3, centres 6.05 apart, joined by a bar 0.5 wide: at r = 1 their shrinks are about
+#: 2.008r apart, too near 2r to call from sample points; their exact distance parts the core in two.
+TWINS = shapely.union_all([Point(0, 0).buffer(3, quad_segs=32), Point(6.05, 0).buffer(3, quad_segs=32),
+                          box(2.5, -0.25, 3.55, 0.25)])
+#: A square frame round a lake, its top right corner cut so that no r-disk fits there (r = 0.8) although
+#: the disks on either side of it overlap: a part of the core with a hole round the lake's anticore, which
+#: no loop of the shrink's guess can show. A bar thinner than 2r joins it to a harmonic star.
+FRAME = Polygon([(0, 0), (10, 0), (10, 7.8), (7.8, 10), (0, 10)], [[(2, 2), (8, 2), (8, 8), (2, 8)]])
+FRAMED_STAR = shapely.union_all([FRAME, box(9, 4.8, 14.5, 5.2),
+                                 shapely.affinity.translate(harmonic(600), 35, 5)])
+
+
+def test_two_loops_of_the_shrink_about_2r_apart_are_told_apart_exactly(shown, monkeypatch):
+    measured = []
+    exact = engine._cycle_distance
+    monkeypatch.setattr(engine, "_cycle_distance", lambda *a: measured.append(exact(*a)) or measured[-1])
+    T = vt.tighten(TWINS, 1.0)
+    (ctx, loops), = shown
+    assert measured and all(2.0 < d / ctx.r < 2.02 for d in measured)
+    assert loops is not None and len(loops) == 2 and ctx._R is None        # two parts, shown
+    assert_same(T, general(TWINS, 1.0))
+    assert_exact(TWINS, 1.0, T)
+    assert T.verify() == []
+
+
+@pytest.mark.parametrize("d, groups", [(1.9, [[0, 1]]), (2.1, [[0], [1]]), (2.0, None),
+                                       (2.0 + 1e-9, [[0], [1]]), (2.0 + 1e-13, None)])
+def test_a_distance_in_the_band_is_decided_by_the_exact_one(d, groups):
+    square = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
+    got = engine._core_groups([square, square + (3.0, 0.0)], 1.0, exact=lambda i, j: d, tie=1e-12)
+    if groups is None:
+        assert got is None                                          # a tie: the core parts touch
+    else:
+        assert sorted(sorted(g) for g in got) == groups
+
+
+def test_a_part_not_shown_goes_alone_through_the_free_space(monkeypatch):
+    parts, rings = [], []
+    inner, free = engine._shrink_parts, engine._tighten_all
+    monkeypatch.setattr(engine, "_shrink_parts", lambda ctx: parts.append(inner(ctx)) or parts[-1])
+    monkeypatch.setattr(engine, "_tighten_all",
+                        lambda ctx, rest, shown=(): rings.append((len(rest), len(shown))) or free(ctx, rest, shown))
+    T = vt.tighten(FRAMED_STAR, 0.8)
+    (got,) = parts
+    assert sorted(L is None for L, _ in got) == [False, True]          # the star shown, the frame not
+    assert rings == [(2, 1)]              # the frame's part of the core: its outer ring and its hole
+    G = general(FRAMED_STAR, 0.8)
+    assert_same(T, G)
+    assert len(T.loops) == 3 and T.n_holes == 1                        # the lake keeps its loop
+    assert_exact(FRAMED_STAR, 0.8, T)
+    assert T.converged and T.verify() == []
+
+
+def test_a_large_part_not_shown_sends_every_part_to_the_free_space(monkeypatch):
+    # The frame alone with a small square: the frame holds far more than a quarter of the shrink's
+    # boundary, so the square's loop would save little of the free space built for it.
+    S = shapely.union_all([FRAME, box(9, 4.8, 14.5, 5.2), box(14, 2, 20, 8)])
+    ctx = context(S, 0.8)
+    assert engine._shrink_parts(ctx) is None
+    assert_same(vt.tighten(S, 0.8), general(S, 0.8))
 
 
 def test_touching_loops_are_left_to_the_surgery(monkeypatch):

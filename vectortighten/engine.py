@@ -1254,10 +1254,26 @@ def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
     return taken, rest
 
 
+#: `_shrink_parts` gives up (every ring goes through the free space) once the parts of the core whose loops
+#: it could not show hold more than this share of the shrink's boundary (by its sample points).
+_GIVE_UP_SHARE = 0.25
+
+
 def _shrink_loops(ctx: _Context) -> list[_DiskLoop] | None:
-    """The tight loops found from the exact shrink's boundary where no part of the shrink has a hole: no
-    guide core or fillet, no free space; None where they cannot be shown to be the ones (the caller then
-    builds those).
+    """Every part of the core's tight loop shown from the exact shrink (`_shrink_parts`), none touching
+    another; else None."""
+    parts = _shrink_parts(ctx)
+    if parts is None or any(L is None for L, _ in parts):
+        return None
+    loops = [L for L, _ in parts]
+    return None if _contacts(ctx, loops) else loops
+
+
+def _shrink_parts(ctx: _Context) -> list[tuple[_DiskLoop | None, np.ndarray]] | None:
+    """For each part of the core, its tight loop found from the exact shrink's boundary where no part of
+    the shrink has a hole (no guide core or fillet, no free space), or None where it cannot be shown to
+    be the one; and a point of that part's shrink (r deep in the core). None where the shrink has a hole,
+    or its parts cannot be grouped into the core's.
 
     The argument of `_annulus_loops`, on the exact sets. Each loop of the boundary of ``E = S↓r``
     (chained from its exact pieces) bounds one part of E; a clockwise loop (a part with a hole) declines.
@@ -1265,16 +1281,17 @@ def _shrink_loops(ctx: _Context) -> list[_DiskLoop] | None:
     a distance under 2r (`_core_groups`). A hole of R with no anticore in it has a loop that shrinks away:
     the tightening from the core is then bounded by one loop a part of R. Each part gets the exact finish
     from a guess made along its loops of E (`_shrink_start`, spliced where there are several); each loop
-    must settle, turn by +2π and, with all the others, neither touch itself nor another (`_contacts`). A
-    settled loop stays out of the open core and anticore, so it is r or more from every point of E and of
+    must settle and turn by +2π (whether it touches itself or another, `_contacts`, is the caller's to
+    ask). A settled loop stays out of the open core and anticore, so it is r or more from every point of E and of
     ``(S^c)↓r``: such points lie on one side of it or the other beyond doubt. It must hold a point of each
     of its own loops of E and no point of any other loop of E, nor of any loop or isolated point of
     ``(S^c)↓r`` (every part of the anticore inside a loop holds such points: a pocket in a cavity or a
     hole of S, anticore in a hole of R; the anticore round S no settled loop can enclose). It then encloses
     one part of R and nothing else the mortar has holes round: the unique taut loop of that part, the free
     space's, and no hole of that part keeps a loop. A part of E that is a single point (an isolated
-    corner: a loop of one disk, which the finish does not check) is left to the caller, as is any
-    failure: one loop not shown sends every ring the other way.
+    corner: a loop of one disk, which the finish does not check) is left to the caller. A part whose
+    loop is not shown is the caller's too (`_core_loops`): the witnesses of the parts that are shown
+    include its points, so those loops stand whatever its loop turns out to be.
     """
     if ctx.two or ctx.zero:
         return None
@@ -1293,38 +1310,49 @@ def _shrink_loops(ctx: _Context) -> list[_DiskLoop] | None:
     if not cycles or len(lone) or (_cycle_areas(P, cycles) < -tol * r).any():
         return None                   # a part of the shrink that is a single point, or one with a hole
     points = [_cycle_points(P, np.asarray(c), r) for c in cycles]
-    groups = _core_groups([xy for xy, _ in points], r)
+    groups = _core_groups([xy for xy, _ in points], r,
+                          exact=lambda i, j: _cycle_distance(P, cycles[i], cycles[j], 2.1 * r), tie=tol)
     if groups is None:
         return None
-    loops = []
-    # Parts of the core made of several loops of the shrink first: their spliced guesses are the likeliest
-    # not to settle, and one that does not ends the search before the others are paid for.
     groups.sort(key=len, reverse=True)
-    for group in groups:
-        starts = [_shrink_start(ctx, P, cycles[k], points[k], tol) for k in group]
-        if any(s is None for s in starts):
-            return None
-        start = starts[0]
-        for more in starts[1:]:
+    # The largest parts first: where one of them is not shown, the free space is built for it anyway,
+    # and the others would save little of it (`_GIVE_UP_SHARE`).
+    size = np.array([sum(len(points[k][0]) for k in group) for group in groups])
+    loops: list[_DiskLoop | None] = [None] * len(groups)
+    failed = 0
+    for g in np.argsort(-size, kind="stable").tolist():
+        starts = [_shrink_start(ctx, P, cycles[k], points[k], tol) for k in groups[g]]
+        start = None if any(s is None for s in starts) else starts[0]
+        for more in starts[1:] if start is not None else ():
             start = _spliced(ctx, start, more)
-        L = _settled(ctx, start)
-        if L is None:
-            return None
-        loops.append(L)
-    if _contacts(ctx, loops):
-        return None
-    owner = np.empty(len(cycles), np.int64)
-    for g, group in enumerate(groups):
-        owner[group] = g
+        loops[g] = None if start is None else _settled(ctx, start)
+        if loops[g] is None:
+            failed += size[g]
+            if failed > _GIVE_UP_SHARE * size.sum():
+                return None
     own = P.start[[c[0] for c in cycles]]
-    others = np.concatenate([PG.start[[c[0] for c in anti_cycles]].reshape(-1, 2), anti_lone.reshape(-1, 2)])
-    regions = [Polygon(L.to_loop().sample(1e-3 * r)) for L in loops]
-    point, region = shapely.STRtree(regions).query(shapely.points(np.concatenate([own, others])),
-                                                   predicate="within")
-    if len(point) != len(cycles) or not np.array_equal(np.sort(point), np.arange(len(cycles))) or \
-            (owner[point] != region).any():
-        return None                         # a loop misses its own part of E, or holds another's or anticore
-    return loops
+    shown = [g for g, L in enumerate(loops) if L is not None]
+    if shown:
+        owner = np.empty(len(cycles), np.int64)
+        for g, group in enumerate(groups):
+            owner[group] = g
+        others = np.concatenate([PG.start[[c[0] for c in anti_cycles]].reshape(-1, 2),
+                                 anti_lone.reshape(-1, 2)])
+        regions = [Polygon(loops[g].to_loop().sample(1e-3 * r)) for g in shown]
+        point, region = shapely.STRtree(regions).query(shapely.points(np.concatenate([own, others])),
+                                                       predicate="within")
+        # A loop must hold a point of each of its own loops of E and no other point (another part's of E,
+        # or the anticore's).
+        holds = np.zeros((len(shown), len(cycles)), dtype=bool)
+        wrong = np.zeros(len(shown), dtype=bool)
+        mine = point < len(cycles)
+        holds[region[mine], point[mine]] = True
+        wrong[region[~mine]] = True
+        wrong[region[mine][owner[point[mine]] != np.asarray(shown)[region[mine]]]] = True
+        for k, g in enumerate(shown):
+            if wrong[k] or not holds[k, groups[g]].all():
+                loops[g] = None
+    return [(L, own[group[0]]) for L, group in zip(loops, groups, strict=True)]
 
 
 def _cycle_areas(P, cycles: list[list[int]]) -> np.ndarray:
@@ -1365,11 +1393,23 @@ def _cycle_points(P, idx: np.ndarray, r: float):
     return np.where(arc[row][:, None], on_arc, on_seg), row + f
 
 
-def _core_groups(points: list[np.ndarray], r: float) -> list[list[int]] | None:
+def _core_groups(points: list[np.ndarray], r: float, exact=None, tie: float = 0.0) -> list[list[int]] | None:
     """The loops of the shrink's boundary grouped into parts of the core: two parts of the shrink less than
     2r apart have overlapping disks. From the loops' points (`_cycle_points`, within 0.02·r of the exact
-    loops); None where two loops are within 0.05·r of 2r apart, too close to call from them. Each group
-    in an order in which every loop after the first is less than 2r from one before it."""
+    loops); where two loops are within 0.05·r of 2r apart, too close to call from them, from
+    ``exact(i, j)``, their exact distance (`_cycle_distance`), if given; None where that is within
+    ``tie`` + 1e-12·r of 2r (the two parts of the core touch at a point, or nearly: the offsets' rounding
+    decides) or no ``exact`` is given. Each group in an order in which every loop after the first is less
+    than 2r from one before it.
+
+    Examples
+    --------
+    Two unit squares' boundaries 1.5 apart are one part of the core at r = 1, 3 apart two:
+
+    >>> sq = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
+    >>> _core_groups([sq, sq + (2.5, 0.0)], 1.0), _core_groups([sq, sq + (4.0, 0.0)], 1.0)
+    ([[0, 1]], [[0], [1]])
+    """
     if len(points) == 1:
         return [[0]]
     lines = np.array([shapely.linestrings(np.vstack([xy, xy[:1]])) for xy in points])
@@ -1380,8 +1420,14 @@ def _core_groups(points: list[np.ndarray], r: float) -> list[list[int]] | None:
     if not len(i):
         return [[k] for k in range(len(points))]
     d = shapely.distance(lines[i], lines[j])
-    if ((d > 1.95 * r) & (d <= 2.05 * r)).any():
-        return None
+    band = np.flatnonzero((d > 1.95 * r) & (d <= 2.05 * r))
+    if len(band):
+        if exact is None:
+            return None
+        for k in band.tolist():
+            d[k] = exact(int(i[k]), int(j[k]))
+            if abs(d[k] - 2.0 * r) <= tie + 1e-12 * r:
+                return None
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import breadth_first_order, connected_components
 
@@ -1393,6 +1439,42 @@ def _core_groups(points: list[np.ndarray], r: float) -> list[list[int]] | None:
         first = int(np.flatnonzero(label == g)[0])
         groups.append(breadth_first_order(graph, first, directed=False, return_predecessors=False).tolist())
     return groups
+
+
+def _cycle_distance(P, a: list[int], b: list[int], reach: float) -> float:
+    """The exact distance between two chained cycles of offset pieces (`_Context.side_loops`), or inf
+    where it exceeds ``reach``: the closed forms (`_pieces`) over the pairs of pieces whose bounding boxes
+    come within ``reach`` of each other (an arc's box is its whole circle's).
+
+    Examples
+    --------
+    A unit square's boundary and the circle of radius 1 about (3.5, 0.5):
+
+    >>> import math
+    >>> from types import SimpleNamespace
+    >>> sq = [(0, 0, 1, 0), (1, 0, 1, 1), (1, 1, 0, 1), (0, 1, 0, 0)]
+    >>> data = np.array([s + (0.0,) for s in sq] + [(3.5, 0.5, 1.0, 0.0, 2 * math.pi)])
+    >>> P = SimpleNamespace(data=data, arc=np.array([False] * 4 + [True]))
+    >>> float(_cycle_distance(P, [0, 1, 2, 3], [4], 3.0))
+    1.5
+    """
+    def boxes(idx):
+        d, arc = P.data[idx], P.arc[idx]
+        rho = np.where(arc, d[:, 2], 0.0)
+        lo = np.where(arc[:, None], d[:, 0:2] - rho[:, None], np.minimum(d[:, 0:2], d[:, 2:4]))
+        hi = np.where(arc[:, None], d[:, 0:2] + rho[:, None], np.maximum(d[:, 0:2], d[:, 2:4]))
+        return shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
+
+    a, b = np.asarray(a), np.asarray(b)
+    ia, ib = shapely.STRtree(boxes(b)).query(boxes(a), predicate="dwithin", distance=reach)
+    if not len(ia):
+        return math.inf
+    pa, pb = a[ia], b[ib]
+    d = piece_distances(P.arc[pa], P.data[pa], P.arc[pb], P.data[pb])
+    for k in np.flatnonzero(np.isnan(d)).tolist():
+        d[k] = piece_distance(*(("arc", (P.data[p, 0:2], *P.data[p, 2:5])) if P.arc[p] else
+                                ("seg", (P.data[p, 0:2], P.data[p, 2:4])) for p in (pa[k], pb[k])))[0]
+    return float(d.min())
 
 
 def _shrink_start(ctx: _Context, P, cycle: list[int], points, tol: float):
@@ -1652,14 +1734,30 @@ def _reconnect(ctx: _Context, loops: list[_DiskLoop], contact) -> list[np.ndarra
     return [first, second]
 
 
-def _tighten_all(ctx: _Context, rings: list[np.ndarray]) -> list[_DiskLoop]:
-    """Tighten every ring, then operate where loops touch until none do.
+def _rings_not_shown(ctx: _Context, parts) -> list[np.ndarray] | None:
+    """The rings of the guide core's parts whose loops `_shrink_parts` did not show (each part's outer ring
+    and holes), or None where its parts do not match the exact shrink's groups one to one (each part of the
+    guide core must hold the point of at most one group, and each group's point must lie in one part)."""
+    R_parts = [P for P in shapely.get_parts(ctx.R) if not P.is_empty]
+    marks = np.array([xy for _, xy in parts]).reshape(-1, 2)
+    point, part = shapely.STRtree(R_parts).query(shapely.points(marks), predicate="within")
+    if len(point) != len(parts) or len(np.unique(point)) != len(parts) or len(np.unique(part)) != len(parts):
+        return None
+    shown = np.zeros(len(R_parts), dtype=bool)
+    shown[part] = [parts[i][0] is not None for i in point.tolist()]
+    return [shapely.get_coordinates(ring) for k in np.flatnonzero(~shown).tolist()
+            for ring in shapely.get_rings(R_parts[k])]
+
+
+def _tighten_all(ctx: _Context, rings: list[np.ndarray], shown: list[_DiskLoop] = ()) -> list[_DiskLoop]:
+    """Tighten every ring, then operate where loops touch (these and the loops ``shown`` already tight)
+    until none do.
 
     A loop whose exact finish did not settle is left as it is (marked ``converged = False``) rather than
     operated on: its pieces are not where the tight loop's are, and a contact of it may be none. Where the
     new rings of a surgery cannot be tightened, the loops it joined or split are kept instead, marked.
     """
-    loops = [L for L in (_tighten_ring(ctx, ring) for ring in rings) if L is not None]
+    loops = list(shown) + [L for L in (_tighten_ring(ctx, ring) for ring in rings) if L is not None]
     for _ in range(_MAX_SURGERY_ROUNDS):
         contacts = [c for c in _contacts(ctx, loops) if loops[c[0]].converged and loops[c[3]].converged]
         if not contacts:
@@ -2435,10 +2533,15 @@ def _core_loops(ctx: _Context, S_local, init: Init, shortcuts: bool) -> list[_Di
     shrink's boundary (`_shrink_loops`) or, failing that, round the guide core's parts that are annuli
     (`_annulus_loops`); the rest through the free space."""
     if shortcuts and init is Init.CORE:
-        loops = _shrink_loops(ctx)
-        if loops is not None:
+        parts = _shrink_parts(ctx)
+        shown = [L for L, _ in parts or () if L is not None]
+        if shown and len(shown) == len(parts) and not _contacts(ctx, shown):
             ctx.guide_free = True
-            return loops
+            return shown
+        if shown:
+            rest = _rings_not_shown(ctx, parts)
+            if rest is not None:
+                return _tighten_all(ctx, rest, shown)
     rings = _initial_rings(ctx, S_local, init)
     taut, rings = _annulus_loops(ctx, rings) if shortcuts and init is Init.CORE else ([], rings)
     return taut + (_tighten_all(ctx, rings) if rings else [])
