@@ -186,8 +186,12 @@ def test_a_part_not_shown_goes_alone_through_the_free_space(monkeypatch):
     parts, rings = [], []
     inner, free = engine._shrink_parts, engine._tighten_all
     monkeypatch.setattr(engine, "_shrink_parts", lambda ctx: parts.append(inner(ctx)) or parts[-1])
-    monkeypatch.setattr(engine, "_tighten_all",
-                        lambda ctx, rest, shown=(): rings.append((len(rest), len(shown))) or free(ctx, rest, shown))
+
+    def counted(ctx, rest, shown=()):
+        rings.append((len(rest), len(shown)))
+        return free(ctx, rest, shown)
+
+    monkeypatch.setattr(engine, "_tighten_all", counted)
     T = vt.tighten(FRAMED_STAR, 0.8)
     (got,) = parts
     assert sorted(L is None for L, _ in got) == [False, True]          # the star shown, the frame not

@@ -1282,8 +1282,8 @@ def _shrink_parts(ctx: _Context) -> list[tuple[_DiskLoop | None, np.ndarray]] | 
     the tightening from the core is then bounded by one loop a part of R. Each part gets the exact finish
     from a guess made along its loops of E (`_shrink_start`, spliced where there are several); each loop
     must settle and turn by +2π (whether it touches itself or another, `_contacts`, is the caller's to
-    ask). A settled loop stays out of the open core and anticore, so it is r or more from every point of E and of
-    ``(S^c)↓r``: such points lie on one side of it or the other beyond doubt. It must hold a point of each
+    ask). A settled loop stays out of the open core and anticore, so it is r or more from every point of
+    E and of ``(S^c)↓r``: such points lie on one side of it or the other beyond doubt. It must hold a point of each
     of its own loops of E and no point of any other loop of E, nor of any loop or isolated point of
     ``(S^c)↓r`` (every part of the anticore inside a loop holds such points: a pocket in a cavity or a
     hole of S, anticore in a hole of R; the anticore round S no settled loop can enclose). It then encloses
