@@ -22,10 +22,10 @@ disk (inside at a convex vertex, outside at a reflex one), and the loop is certi
 as the exact finish, without any triangulation.
 
 Between the two, for ``init="core"``, the general engine first looks for the tight loops without the free
-space: from the exact shrink's boundary where it has no holes (`_shrink_loops`), else round the guide
-core's parts that are annuli of the mortar (`_annulus_loops`). Each loop so found is the exact finish's
-from a guess, kept only where it is shown to be the one the free space would give; the rest go through
-steps 3–5.
+space: from the exact shrink's boundary where it has no holes, part of the core by part (`_shrink_parts`;
+a part not shown goes alone through steps 3–5), else round the guide core's parts that are annuli of the
+mortar (`_annulus_loops`). Each loop so found is the exact finish's from a guess, kept only where it is
+shown to be the one the free space would give; the rest go through steps 3–5.
 """
 
 from __future__ import annotations
