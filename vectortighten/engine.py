@@ -1127,11 +1127,35 @@ def _tighten_ring(ctx: _Context, ring: np.ndarray) -> _DiskLoop | None:
     return _finish(ctx, cid[known], geo.sides[known].astype(np.int64), turn[known])
 
 
+def _longest_run(k: np.ndarray, n: int) -> np.ndarray:
+    """The longest run of consecutive numbers among vertex numbers ``k`` of a ring of ``n`` vertices (a run
+    may go on past the last vertex to the first).
+
+    A ring passes one circle at places far apart where a neck or a bay is about 2r wide; the longest run
+    is where it runs on the circle's arc (`_annulus_start`).
+
+    Examples
+    --------
+    >>> _longest_run(np.array([40, 3, 4, 5]), 100).tolist()
+    [3, 4, 5]
+    >>> _longest_run(np.array([0, 1, 50, 98, 99]), 100).tolist()
+    [98, 99, 0, 1]
+    """
+    k = np.sort(k)
+    if len(k) < 2:
+        return k
+    runs = np.split(k, np.flatnonzero(np.diff(k) > 1) + 1)
+    if len(runs) > 1 and k[0] == 0 and k[-1] == n - 1:                  # a run across the first vertex
+        runs = [np.concatenate([runs[-1], runs[0]])] + runs[1:-1]
+    return max(runs, key=len)
+
+
 def _annulus_start(ctx: _Context, ring: np.ndarray):
     """A cyclic disk sequence to start the exact finish from, without the free space: every core disk
-    whose arc the ring (the guide core's boundary) runs on, at the mean place of its arc along the ring,
-    and every anticore disk within `_ANNULUS_REACH`·r of the ring, at the ring's vertex nearest its
-    centre; None if the ring runs on no core disk."""
+    whose arc the ring (the guide core's boundary) runs on, at the mean place of its arc along the ring
+    (the longest run of vertices on its circle, `_longest_run`), and every anticore disk within
+    `_ANNULUS_REACH`·r of the ring, at the ring's vertex nearest its centre; None if the ring runs on no
+    core disk."""
     r = ctx.r
     xy = ring[:-1] if len(ring) > 1 and np.array_equal(ring[0], ring[-1]) else ring
     n = len(xy)
@@ -1149,13 +1173,14 @@ def _annulus_start(ctx: _Context, ring: np.ndarray):
     first = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
     place, cid, side, ref = [], [], [], []
     for a, b in zip(first.tolist(), np.r_[first[1:], len(owner)].tolist()):
-        k = on[a:b].astype(float)
-        if k.max() - k.min() > 0.5 * n:          # an arc across the ring's first vertex
-            k = np.where(k < 0.5 * n, k + n, k)
-        place.append(float(k.mean()) % n)
+        k = _longest_run(on[a:b], n)
+        f = k.astype(float)
+        if f.max() - f.min() > 0.5 * n:          # an arc across the ring's first vertex
+            f = np.where(f < 0.5 * n, f + n, f)
+        place.append(float(f.mean()) % n)
         cid.append(int(owner[a]))
         side.append(1)
-        ref.append(float(turn[on[a:b]].sum()))
+        ref.append(float(turn[k].sum()))
     kd2, ids2 = ctx._kd[-1]
     if kd2 is not None:
         dist, v = cKDTree(xy).query(ctx.cxy[ids2])
