@@ -18,7 +18,7 @@ from shapely.geometry import Point, Polygon, box
 import vectortighten as vt
 from vectortighten import engine
 
-from .engines import assert_exact, assert_same, general, with_and_without_shortcuts
+from .engines import assert_exact, assert_same, counted_checks, general, with_and_without_shortcuts
 from .strategies import pixel_outline, radii_for, shapes
 from .test_annulus import harmonic
 from .test_split import STEPPED, comb
@@ -41,6 +41,8 @@ SHAPES = {
     "dumbbell": (DUMBBELL, 1.0),
     "pocket": (POCKET, 2.0),
     "lake": (LAKE, 1.0),
+    "star with a pond": (harmonic(1000).difference(Point(0, 0).buffer(8, quad_segs=16)), 1.0),
+    "star with a pinhole": (harmonic(1000).difference(box(-0.75, -0.75, 0.75, 0.75)), 1.0),
 }
 
 
@@ -52,7 +54,7 @@ def shown(monkeypatch):
 
     def spy(ctx):
         out = inner(ctx)
-        loops = None if out is None or any(L is None for L, _ in out) else [L for L, _ in out]
+        loops = None if out is None or any(Ls is None for Ls, _ in out) else [L for Ls, _ in out for L in Ls]
         seen.append((ctx, loops))
         return out
 
@@ -110,7 +112,7 @@ def test_parts_of_the_shrink_are_grouped_by_2r_and_not_at_all_too_near_it(gap, g
         assert sorted(sorted(g) for g in got) == groups
 
 
-def test_a_shrink_with_a_hole_is_left_to_the_guide():
+def test_a_hole_of_the_shrink_gets_the_loop_round_its_anticore():
     ring = box(0, 0, 20, 20).difference(box(6, 6, 14, 14))          # the shrink is an annulus
     ctx = context(ring, 1.0)
     _, P, cycles, _ = ctx.side_loops(1)
@@ -119,8 +121,29 @@ def test_a_shrink_with_a_hole_is_left_to_the_guide():
     # in the local frame (size 1): the outer loop bounds the 18 × 18 square, the hole the 10 × 10 one
     # with its corners rounded by r, all over 20²
     assert sorted(areas) == pytest.approx([-(100 - (4 - np.pi)) / 400, 324 / 400], rel=1e-12)
-    assert engine._shrink_loops(ctx) is None
-    assert_same(vt.tighten(ring, 1.0), general(ring, 1.0))
+    loops = engine._shrink_loops(ctx)
+    assert loops is not None and len(loops) == 2
+    outer, hole = loops
+    assert outer.sweep.sum() == pytest.approx(2 * np.pi) and hole.sweep.sum() == pytest.approx(-2 * np.pi)
+    # round the hole's anticore (the 8 × 8 hole with its corners rounded by r): its four corner disks
+    assert hole.n == 4 and (hole.side < 0).all()
+    assert hole.to_loop().area == pytest.approx(-(64 - (4 - np.pi)) / 400, rel=1e-12)
+    G = general(ring, 1.0)
+    assert sorted(sorted(L.cid.tolist()) for L in loops) == \
+        sorted(sorted(L.cid.tolist()) for L in G._cache["_exact"][1])
+
+
+def test_a_guess_wound_round_more_than_twice_is_given_up_before_any_check(monkeypatch):
+    ctx = context(box(0, 0, 20, 20).difference(box(6, 6, 14, 14)), 1.0)
+    outer = engine._shrink_loops(ctx)[0]
+    assert outer.n == 4                             # the core disks at the outer corners of the shrink
+    checks = counted_checks(monkeypatch)
+    thrice = np.tile(outer.cid, 3)                  # round the square three times: 6π
+    L = engine._finish_steps(ctx, thrice, np.ones(12, np.int64), np.full(12, np.pi / 2), rounds=6)
+    assert L is not None and not L.converged and L.sweep.sum() == pytest.approx(6 * np.pi)
+    assert checks == []
+    L = engine._finish_steps(ctx, outer.cid, outer.side, outer.sweep, rounds=6)       # once round: settled
+    assert L.converged and checks == [4]
 
 
 def test_a_loop_round_a_pocket_of_the_anticore_is_refused(monkeypatch):

@@ -1045,8 +1045,8 @@ def _finish_steps(ctx: _Context, cid: np.ndarray, side: np.ndarray, ref: np.ndar
             return loop
         seen.add(state)
         if rounds is not None:
-            if rounds == 0:
-                break
+            if rounds == 0 or abs(float(sw.sum())) > _WOUND * math.pi:
+                break               # the budget spent, or a guess wound round and round: it will not settle
             rounds -= 1
         viol = _violations(ctx, loop, ctx.violation_cache)
         if not viol:
@@ -1279,6 +1279,11 @@ def _annulus_loops(ctx: _Context, rings: list[np.ndarray]):
     return taken, rest
 
 
+#: A finish with a budget (from a guess) gives up on a loop whose turns add to more than this many π: it
+#: winds round more than twice, and each round of checks on it costs more than the free space would.
+_WOUND = 5.0
+
+
 #: `_shrink_parts` gives up (every ring goes through the free space) once the parts of the core whose loops
 #: it could not show hold more than this share of the shrink's boundary (by its sample points).
 _GIVE_UP_SHARE = 0.25
@@ -1288,32 +1293,36 @@ def _shrink_loops(ctx: _Context) -> list[_DiskLoop] | None:
     """Every part of the core's tight loop shown from the exact shrink (`_shrink_parts`), none touching
     another; else None."""
     parts = _shrink_parts(ctx)
-    if parts is None or any(L is None for L, _ in parts):
+    if parts is None or any(Ls is None for Ls, _ in parts):
         return None
-    loops = [L for L, _ in parts]
+    loops = [L for Ls, _ in parts for L in Ls]
     return None if _contacts(ctx, loops) else loops
 
 
-def _shrink_parts(ctx: _Context) -> list[tuple[_DiskLoop | None, np.ndarray]] | None:
-    """For each part of the core, its tight loop found from the exact shrink's boundary where no part of
-    the shrink has a hole (no guide core or fillet, no free space), or None where it cannot be shown to
-    be the one; and a point of that part's shrink (r deep in the core). None where the shrink has a hole,
-    or its parts cannot be grouped into the core's.
+def _shrink_parts(ctx: _Context) -> list[tuple[list[_DiskLoop] | None, np.ndarray]] | None:
+    """For each part of the core, its tight loops found from the exact shrink's boundary (no guide core or
+    fillet, no free space): its outer loop, then the loops round the anticore in the holes of its parts
+    of E (`_hole_loop`); or None where they cannot be shown to be the ones; and a point of that part's
+    shrink (r deep in the core). None where the shrink's loops cannot be grouped into the core's parts.
 
     The argument of `_annulus_loops`, on the exact sets. Each loop of the boundary of ``E = S↓r``
-    (chained from its exact pieces) bounds one part of E; a clockwise loop (a part with a hole) declines.
-    The core ``R = E ⊕ D_r`` is the union of the disks on E's parts, and its parts are E's parts grouped by
-    a distance under 2r (`_core_groups`). A hole of R with no anticore in it has a loop that shrinks away:
+    (chained from its exact pieces) bounds one part of E, or, clockwise, a hole of one (its signed area
+    in closed form). The core ``R = E ⊕ D_r`` is the union of the disks on E's parts, and its parts are
+    E's loops grouped by a distance under 2r (`_core_groups`), each hole's loop with the loop round it
+    (`_with_holes`). A hole of R with no anticore in it has a loop that shrinks away:
     the tightening from the core is then bounded by one loop a part of R. Each part gets the exact finish
     from a guess made along its loops of E (`_shrink_start`, spliced where there are several); each loop
     must settle and turn by +2π (whether it touches itself or another, `_contacts`, is the caller's to
-    ask). A settled loop stays out of the open core and anticore, so it is r or more from every point of
-    E and of ``(S^c)↓r``: such points lie on one side of it or the other beyond doubt. It must hold a point of each
-    of its own loops of E and no point of any other loop of E, nor of any loop or isolated point of
-    ``(S^c)↓r`` (every part of the anticore inside a loop holds such points: a pocket in a cavity or a
-    hole of S, anticore in a hole of R; the anticore round S no settled loop can enclose). It then encloses
-    one part of R and nothing else the mortar has holes round: the unique taut loop of that part, the free
-    space's, and no hole of that part keeps a loop. A part of E that is a single point (an isolated
+    ask). A hole of E gets a loop from a guess along its loop of E where it holds anticore
+    (`_hole_loop`). A settled loop stays out of the open core and anticore, so it is r or more from every
+    point of E and of ``(S^c)↓r``: such points lie on one side of it or the other beyond doubt. The region
+    between a part's outer loop and its holes' loops must hold a point of each of its own loops of E and
+    no point of any other loop of E, nor of any loop or isolated point of ``(S^c)↓r`` (every part of the
+    anticore inside a loop holds such points: a pocket in a cavity, anticore in a hole of R; the anticore
+    round S no settled loop can enclose). The outer loop then encloses one part of R and nothing else the
+    mortar has holes round but what lies inside its holes' loops: the unique taut loop of that part, the
+    free space's; each hole's loop is the free space's for its hole of R, and no other hole of that part
+    keeps a loop. A part of E that is a single point (an isolated
     corner: a loop of one disk, which the finish does not check) is left to the caller. A part whose
     loop is not shown is the caller's too (`_core_loops`): the witnesses of the parts that are shown
     include its points, so those loops stand whatever its loop turns out to be.
@@ -1332,32 +1341,38 @@ def _shrink_parts(ctx: _Context) -> list[tuple[_DiskLoop | None, np.ndarray]] | 
         _, PG, anti_cycles, anti_lone = ctx.side_loops(-1)
     except RuntimeError:                                # the pieces do not close (`exact_morphology._chain`)
         return None
-    if not cycles or len(lone) or (_cycle_areas(P, cycles) < -tol * r).any():
-        return None                   # a part of the shrink that is a single point, or one with a hole
+    if not cycles or len(lone):
+        return None                                     # a part of the shrink that is a single point
+    hole = _cycle_areas(P, cycles) < -tol * r
     points = [_cycle_points(P, np.asarray(c), r) for c in cycles]
     groups = _core_groups([xy for xy, _ in points], r,
                           exact=lambda i, j: _cycle_distance(P, cycles[i], cycles[j], 2.1 * r), tie=tol)
-    if groups is None:
+    if groups is None or (hole.any() and (groups := _with_holes(P, cycles, points, hole, groups)) is None):
         return None
     groups.sort(key=len, reverse=True)
     # The largest parts first: where one of them is not shown, the free space is built for it anyway,
     # and the others would save little of it (`_GIVE_UP_SHARE`).
     size = np.array([sum(len(points[k][0]) for k in group) for group in groups])
-    loops: list[_DiskLoop | None] = [None] * len(groups)
+    others = np.concatenate([PG.start[[c[0] for c in anti_cycles]].reshape(-1, 2), anti_lone.reshape(-1, 2)])
+    loops: list[list[_DiskLoop] | None] = [None] * len(groups)
     failed = 0
     for g in np.argsort(-size, kind="stable").tolist():
-        starts = [_shrink_start(ctx, P, cycles[k], points[k], tol) for k in groups[g]]
-        start = None if any(s is None for s in starts) else starts[0]
+        outer = [k for k in groups[g] if not hole[k]]
+        starts = [_shrink_start(ctx, P, cycles[k], points[k], tol) for k in outer]
+        start = None if not starts or any(s is None for s in starts) else starts[0]
         for more in starts[1:] if start is not None else ():
             start = _spliced(ctx, start, more)
-        loops[g] = None if start is None else _settled(ctx, start)
-        if loops[g] is None and len(groups[g]) == 1 and start is not None and (start[1] < 0).any() \
+        L = None if start is None else _settled(ctx, start)
+        if L is None and len(outer) == 1 and start is not None and (start[1] < 0).any() \
                 and (start[1] > 0).any():
             # Along one loop of E, the anticore disks may be placed wrong (beside a deep bay, one core disk
             # early); without them the finish puts in the ones the tangents enter, where they enter. (A
             # spliced guess that does not settle is most often wrong at a splice: the part has a hole.)
             core = start[1] > 0
-            loops[g] = _settled(ctx, tuple(x[core] for x in start))
+            L = _settled(ctx, tuple(x[core] for x in start))
+        if L is not None:
+            holes = [_hole_loop(ctx, P, cycles[k], points[k], tol) for k in groups[g] if hole[k]]
+            loops[g] = None if any(H is False for H in holes) else [L] + [H for H in holes if H is not None]
         if loops[g] is None:
             failed += size[g]
             if failed > _GIVE_UP_SHARE * size.sum():
@@ -1368,13 +1383,16 @@ def _shrink_parts(ctx: _Context) -> list[tuple[_DiskLoop | None, np.ndarray]] | 
         owner = np.empty(len(cycles), np.int64)
         for g, group in enumerate(groups):
             owner[group] = g
-        others = np.concatenate([PG.start[[c[0] for c in anti_cycles]].reshape(-1, 2),
-                                 anti_lone.reshape(-1, 2)])
-        regions = [Polygon(loops[g].to_loop().sample(1e-3 * r)) for g in shown]
+        regions = [_region(loops[g], r) for g in shown]
+        for g, R in zip(shown, regions, strict=True):
+            loops[g] = None if R is None else loops[g]
+        keep = [k for k, R in enumerate(regions) if R is not None]
+        shown, regions = [shown[k] for k in keep], [regions[k] for k in keep]
+    if shown:
         point, region = shapely.STRtree(regions).query(shapely.points(np.concatenate([own, others])),
                                                        predicate="within")
-        # A loop must hold a point of each of its own loops of E and no other point (another part's of E,
-        # or the anticore's).
+        # A part's region (inside its outer loop, outside its holes' loops) must hold a point of each of its
+        # own loops of E and no other point (another part's of E, or the anticore's).
         holds = np.zeros((len(shown), len(cycles)), dtype=bool)
         wrong = np.zeros(len(shown), dtype=bool)
         mine = point < len(cycles)
@@ -1387,6 +1405,68 @@ def _shrink_parts(ctx: _Context) -> list[tuple[_DiskLoop | None, np.ndarray]] | 
         if size[[L is None for L in loops]].sum() > _GIVE_UP_SHARE * size.sum():
             return None                         # refused by their witnesses: as if they had not settled
     return [(L, own[group[0]]) for L, group in zip(loops, groups, strict=True)]
+
+
+def _polygon(xy: np.ndarray) -> Polygon:
+    """The polygon of a ring of points (empty where they are too few to bound anything)."""
+    return Polygon(xy) if len(xy) >= 3 else Polygon()
+
+
+def _region(loops: list[_DiskLoop], r: float):
+    """The region a part's loops bound (the first its outer loop, the others its holes' loops), sampled
+    within 1e-3·r; None where that is not a valid polygon (a hole's loop outside the outer loop, or two
+    crossing)."""
+    rings = [L.to_loop().sample(1e-3 * r) for L in loops]
+    region = Polygon(rings[0], rings[1:])
+    return region if region.is_valid else None
+
+
+def _with_holes(P, cycles, points, hole: np.ndarray, groups: list[list[int]]) -> list[list[int]] | None:
+    """The groups of the shrink's loops with each clockwise loop (a hole of a part of E) joined to the group
+    of the innermost counter-clockwise loop round it (that part's outer loop); None where a hole's loop
+    lies in no outer loop."""
+    outer = np.flatnonzero(~hole)
+    polygons = [_polygon(points[k][0]) for k in outer.tolist()]
+    area = np.array([p.area for p in polygons])
+    inner = np.flatnonzero(hole)
+    point, poly = shapely.STRtree(polygons).query(shapely.points(P.start[[cycles[k][0] for k in inner]]),
+                                                  predicate="within")
+    label = np.empty(len(cycles), np.int64)
+    for g, group in enumerate(groups):
+        label[group] = g
+    merged = {g: list(group) for g, group in enumerate(groups)}
+    for i, k in enumerate(inner.tolist()):
+        round_it = poly[point == i]
+        if not len(round_it):
+            return None
+        a, b = label[outer[round_it[np.argmin(area[round_it])]]], label[k]
+        if a != b:
+            merged[a] += merged.pop(b)
+            label[merged[a]] = a
+    return list(merged.values())
+
+
+def _hole_loop(ctx: _Context, P, cycle: list[int], points, tol: float):
+    """The tight loop round the anticore in a hole of a part of E, from a guess along that hole's loop of E
+    (`_shrink_start`): None where it shrinks away, or there is no disk to start from (no anticore
+    there); False where it does not settle turning by −2π inside that loop of E.
+
+    Such a loop stays out of the open core, so r or more from E: inside the hole's loop, it lies in a hole
+    of the core R (the hole of E less what R covers), round that hole's anticore. The caller's witnesses
+    show that it holds all of it (no point of ``(S^c)↓r`` is left between the loops): a simple loop round
+    every hole of a planar domain is homotopic to its outer boundary, the hole of R's ring, so it is that
+    ring's taut loop.
+    """
+    start = _shrink_start(ctx, P, cycle, points, tol, hole=True)
+    if start is None:
+        return None             # no disk near it: no anticore in the hole (the witnesses check it)
+    H = _without_grazed(ctx, _finish_steps(ctx, *start, rounds=_ANNULUS_ROUNDS))
+    if H is None or (H.n == 1 and H.side[0] > 0):
+        return None                                 # shrunk away: no anticore in this hole
+    if not H.converged or abs(float(H.sweep.sum()) + _TWO_PI) > 1e-6:
+        return False
+    here = H.to_loop().sample(1e-3 * ctx.r)[0]
+    return H if _polygon(points[0]).contains(shapely.Point(here)) else False
 
 
 def _cycle_areas(P, cycles: list[list[int]]) -> np.ndarray:
@@ -1511,11 +1591,12 @@ def _cycle_distance(P, a: list[int], b: list[int], reach: float) -> float:
     return float(d.min())
 
 
-def _shrink_start(ctx: _Context, P, cycle: list[int], points, tol: float):
+def _shrink_start(ctx: _Context, P, cycle: list[int], points, tol: float, hole: bool = False):
     """A cyclic disk sequence to start the exact finish from, made along one loop of the exact shrink's
     boundary: the core disk at each of its corners (turning by the corner's turn), and every anticore disk
     within (`_ANNULUS_REACH` + 1)·r of it, at the place along the loop nearest its centre; None if the
-    loop has no corner that is a core centre. ``points``: the loop's `_cycle_points`."""
+    loop has no corner that is a core centre (for a ``hole``'s loop, which may have none: no disk at all).
+    ``points``: the loop's `_cycle_points`."""
     from .exact_morphology import _turn
 
     r = ctx.r
@@ -1523,7 +1604,7 @@ def _shrink_start(ctx: _Context, P, cycle: list[int], points, tol: float):
     idx = np.asarray(cycle)
     d, j = kd.query(P.start[idx], distance_upper_bound=tol)
     at = np.flatnonzero(np.isfinite(d))
-    if not len(at):
+    if not len(at) and not hole:
         return None
     t_in, t_out = P.t1[np.roll(idx, 1)], P.t0[idx]
     turn = _turn(t_in, t_out)
@@ -1539,6 +1620,10 @@ def _shrink_start(ctx: _Context, P, cycle: list[int], points, tol: float):
         if len(near):
             dist, k = cKDTree(xy).query(ctx.cxy[near], distance_upper_bound=reach)
             ok = np.isfinite(dist)
+            if ok.any():
+                # Only the anticore on the loop's own side: inside a hole's loop, outside an outer loop (the
+                # anticore inside an outer loop is in the holes of its part of E, 2r or more from E).
+                ok[ok] = shapely.contains_xy(_polygon(xy), *ctx.cxy[near[ok]].T) == hole
             near, k = near[ok], k[ok]
             piece = np.floor(where[k]).astype(np.int64)
             frac = where[k] - piece
@@ -1556,6 +1641,8 @@ def _shrink_start(ctx: _Context, P, cycle: list[int], points, tol: float):
             ref.append(np.zeros(len(near)))
             side.append(-np.ones(len(near), np.int64))
     o = np.argsort(np.concatenate(place), kind="stable")
+    if not len(o):
+        return None
     return np.concatenate(cid).astype(np.int64)[o], np.concatenate(side)[o], np.concatenate(ref)[o]
 
 
@@ -2568,8 +2655,8 @@ def _core_loops(ctx: _Context, S_local, init: Init, shortcuts: bool) -> list[_Di
     (`_annulus_loops`); the rest through the free space."""
     if shortcuts and init is Init.CORE:
         parts = _shrink_parts(ctx)
-        shown = [L for L, _ in parts or () if L is not None]
-        if shown and len(shown) == len(parts) and not _contacts(ctx, shown):
+        shown = [L for Ls, _ in parts or () if Ls is not None for L in Ls]
+        if shown and all(Ls is not None for Ls, _ in parts) and not _contacts(ctx, shown):
             ctx.guide_free = True
             return shown
         if shown:
