@@ -6,11 +6,13 @@ before each call, so that imports made inside functions resolve to the same tree
 with A then B, or B then A, alternately, ``--repeats`` times; the totals give B / A.
 
 Modes: ``tighten`` (the footprints of `bench_geo.footprints(300, seed=3)` that B's general engine takes,
-r = 1), ``offsets`` (`offsets.exact_offsets` of those, both sides), ``families`` (`bench_families`' families
+r = 1), ``offsets`` (`offsets.exact_offsets` of those, both sides), ``corpus`` (the real shapes of
+`corpus.cases()` up to 30k vertices that B's general engine takes, at half and at the whole of their width,
+tolerance 1e-5·r), ``families`` (`bench_families`' families
 at ``--size`` vertices, 1000 unless told, their r, tolerance 1e-5·r; ``--families`` picks any of
 ``ALL_FAMILIES``), ``famoffsets`` (their exact offsets, both sides).
 
-Run:  python benchmarks/ab_paired.py BEFORE_ROOT AFTER_ROOT [tighten|offsets|families|famoffsets]
+Run:  python benchmarks/ab_paired.py BEFORE_ROOT AFTER_ROOT [tighten|offsets|families|famoffsets|corpus]
       [--repeats 5] [--size 1000] [--families NAME ...]
 """
 
@@ -53,7 +55,7 @@ def main() -> None:
     ap.add_argument("a")
     ap.add_argument("b")
     ap.add_argument("mode", nargs="?", default="tighten",
-                    choices=["tighten", "offsets", "families", "famoffsets"])
+                    choices=["tighten", "offsets", "families", "famoffsets", "corpus"])
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--size", type=int, default=1000, help="vertices of each family's shape (families modes)")
     ap.add_argument("--families", nargs="+", default=None,
@@ -71,6 +73,14 @@ def main() -> None:
     if args.mode in ("families", "famoffsets"):
         names = args.families or list(bench_families.FAMILIES)
         cases = [(make(args.size), r) for make, r in (bench_families.ALL_FAMILIES[k] for k in names)]
+    elif args.mode == "corpus":
+        import corpus
+        names, cases = [], []
+        for c in corpus.cases():
+            for f in (0.5, 1.0):
+                if c.n_vertices <= 30000 and vt_b.tighten(c.shape, f * c.width)._cache["_path"] == "general":
+                    names.append(f"{c.family}/{c.name}@{f}")
+                    cases.append((c.shape, f * c.width))
     else:
         fps = bench_geo.footprints(300, seed=3)
         cases = [(g, 1.0) for g in fps if vt_b.tighten(g, 1.0)._cache["_path"] == "general"]
@@ -86,7 +96,7 @@ def main() -> None:
             off.exact_offsets(S, r, 1)
             off.exact_offsets(S, r, -1)
             return clock() - t0
-        tol = 1e-5 * r if args.mode == "families" else None
+        tol = 1e-5 * r if args.mode in ("families", "corpus") else None
         t0 = clock()
         vt.tighten(S, r, tolerance=tol)
         return clock() - t0
