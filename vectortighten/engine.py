@@ -2651,8 +2651,9 @@ def _split_fast(S, r: float, q: int, init: str, precision: float, frame: _Frame,
 
 def _core_loops(ctx: _Context, S_local, init: Init, shortcuts: bool) -> list[_DiskLoop]:
     """The general engine's tight loops: with ``shortcuts`` and ``init="core"``, those shown from the exact
-    shrink's boundary (`_shrink_loops`) or, failing that, round the guide core's parts that are annuli
-    (`_annulus_loops`); the rest through the free space."""
+    shrink's boundary (`_shrink_parts`; the parts not shown go alone through the free space, unless they
+    are too many) or, failing that, round the guide core's parts that are annuli (`_annulus_loops`); the
+    rest through the free space."""
     if shortcuts and init is Init.CORE:
         parts = _shrink_parts(ctx)
         shown = [L for Ls, _ in parts or () if Ls is not None for L in Ls]
