@@ -1311,11 +1311,11 @@ def _shrink_parts(ctx: _Context) -> list[tuple[list[_DiskLoop] | None, np.ndarra
     (chained from its exact pieces) bounds one part of E, or, clockwise, a hole of one (its signed area
     in closed form). The core ``R = E ⊕ D_r`` is the union of the disks on E's parts, and its parts are
     E's loops grouped by a distance under 2r (`_core_groups`), each hole's loop with the loop round it
-    (`_with_holes`). A hole of R with no anticore in it has a loop that shrinks away:
-    the tightening from the core is then bounded by one loop a part of R. Each part gets the exact finish
-    from a guess made along its loops of E (`_shrink_start`, spliced where there are several); each loop
-    must settle and turn by +2π (whether it touches itself or another, `_contacts`, is the caller's to
-    ask). A hole of E gets a loop from a guess along its loop of E where it holds anticore
+    (`_with_holes`). A hole of R with no anticore in it has a loop that shrinks away: the tightening from
+    the core is then bounded by one loop a part of R, and one a hole of R that holds anticore. Each part
+    gets the exact finish from a guess made along its loops of E (`_shrink_start`, spliced where there are
+    several); each loop must settle and turn by +2π (whether it touches itself or another, `_contacts`,
+    is the caller's to ask). A hole of E gets a loop from a guess along its loop of E where it holds anticore
     (`_hole_loop`). A settled loop stays out of the open core and anticore, so it is r or more from every
     point of E and of ``(S^c)↓r``: such points lie on one side of it or the other beyond doubt. The region
     between a part's outer loop and its holes' loops must hold a point of each of its own loops of E and
@@ -1324,10 +1324,10 @@ def _shrink_parts(ctx: _Context) -> list[tuple[list[_DiskLoop] | None, np.ndarra
     round S no settled loop can enclose). The outer loop then encloses one part of R and nothing else the
     mortar has holes round but what lies inside its holes' loops: the unique taut loop of that part, the
     free space's; each hole's loop is the free space's for its hole of R, and no other hole of that part
-    keeps a loop. A part of E that is a single point (an isolated
-    corner: a loop of one disk, which the finish does not check) is left to the caller. A part whose
-    loop is not shown is the caller's too (`_core_loops`): the witnesses of the parts that are shown
-    include its points, so those loops stand whatever its loop turns out to be.
+    keeps a loop. A part of E that is a single point (an isolated corner: a loop of one disk, which the
+    finish does not check) is left to the caller. A part whose loop is not shown is the caller's too
+    (`_core_loops`): the witnesses of the parts that are shown include its points, so those loops stand
+    whatever its loop turns out to be.
     """
     if ctx.two or ctx.zero:
         return None
